@@ -1,0 +1,259 @@
+#include "apps/humanoid_parameters.h"
+
+#include "fem/sole_parameters.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace plantar::app {
+
+using dealii::Patterns::Anything;
+using dealii::Patterns::Bool;
+using dealii::Patterns::Double;
+using dealii::Patterns::Integer;
+using dealii::Patterns::Selection;
+
+namespace {
+
+/// Throws std::invalid_argument "<name> = <value>: must be <range>" unless @p ok.
+void require(bool ok, const std::string& name, double value, const std::string& range) {
+  if (!ok) {
+    std::ostringstream msg;
+    msg << name << " = " << value << ": must be " << range;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+std::string footsteps_text(const std::vector<walking::Footstep>& steps) {
+  std::ostringstream out;
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    out << (i ? "; " : "") << steps[i].x << ", " << steps[i].y << ", " << steps[i].yaw;
+  return out.str();
+}
+
+walking::Footstep parse_one(const std::string& text, const std::string& parameter) {
+  const auto steps = parse_footsteps(text, parameter);
+  if (steps.size() != 1)
+    throw std::invalid_argument(parameter + " = '" + text + "': expected one 'x, y, yaw'");
+  return steps[0];
+}
+
+} // namespace
+
+const char* to_string(FootForm form) {
+  switch (form) {
+  case FootForm::rigid:
+    return "rigid";
+  case FootForm::compliant_ankle:
+    return "compliant ankle";
+  case FootForm::fem_sole:
+    return "fem sole";
+  }
+  return "?";
+}
+
+std::vector<walking::Footstep> parse_footsteps(const std::string& text,
+                                               const std::string& parameter) {
+  std::vector<walking::Footstep> steps;
+  std::stringstream all(text);
+  std::string item;
+  while (std::getline(all, item, ';')) {
+    if (item.find_first_not_of(" \t") == std::string::npos)
+      continue;
+    std::stringstream fields(item);
+    std::string field;
+    double values[3];
+    int n = 0;
+    while (std::getline(fields, field, ',')) {
+      std::size_t used = 0;
+      double value = 0;
+      try {
+        value = std::stod(field, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || field.find_first_not_of(" \t", used) != std::string::npos || n == 3 ||
+          !std::isfinite(value))
+        throw std::invalid_argument(parameter + ": footstep '" + item +
+                                    "' is not 'x, y, yaw' (three numbers: m, m, rad)");
+      values[n++] = value;
+    }
+    if (n != 3)
+      throw std::invalid_argument(parameter + ": footstep '" + item +
+                                  "' is not 'x, y, yaw' (three numbers: m, m, rad)");
+    steps.push_back({values[0], values[1], values[2]});
+  }
+  return steps;
+}
+
+void RobotParameters::declare(dealii::ParameterHandler& prm) {
+  prm.declare_entry("URDF file", "models/hrp2/hrp2.urdf", Anything(),
+                    "Robot model; relative paths: scene directory, then the Plantar tree.");
+  prm.declare_entry("Foot form", "rigid", Selection("rigid|compliant ankle|fem sole"),
+                    "rigid: 8 contact points on each sole outline (Sole/Length x Sole/Width); "
+                    "compliant ankle: the same points plus a passive 3-DoF spring-damper "
+                    "between ankle and foot (paper eq. 13); fem sole: the FEM sole of "
+                    "subsection Sole condensed on its bottom nodes under each foot (eq. 11-12), "
+                    "the robot's reference raised by Sole/Thickness.");
+  prm.declare_entry("Ankle linear stiffness", "40000", Double(0),
+                    "compliant ankle: vertical spring k_z (N/m), > 0.");
+  prm.declare_entry("Ankle linear damping", "600", Double(0),
+                    "compliant ankle: vertical damper c_z (N s/m).");
+  prm.declare_entry("Ankle angular stiffness", "600", Double(0),
+                    "compliant ankle: pitch and roll springs (N m/rad), > 0.");
+  prm.declare_entry("Ankle angular damping", "60", Double(0),
+                    "compliant ankle: pitch and roll dampers (N m s/rad).");
+  prm.declare_entry("CoM height", "0.814", Double(0.5, 0.9),
+                    "CoM height of the standing and walking posture (m); sets the waist height.");
+}
+
+void RobotParameters::parse(dealii::ParameterHandler& prm,
+                            const std::filesystem::path& scene_directory) {
+  urdf_file = fem::resolve_path(prm.get("URDF file"), scene_directory);
+  if (!std::filesystem::exists(urdf_file))
+    throw std::invalid_argument("Robot/URDF file = " + prm.get("URDF file") + ": no such file (" +
+                                urdf_file.string() + ")");
+  const std::string form = prm.get("Foot form");
+  foot_form = form == "rigid"             ? FootForm::rigid
+              : form == "compliant ankle" ? FootForm::compliant_ankle
+                                          : FootForm::fem_sole;
+  ankle_linear_stiffness = prm.get_double("Ankle linear stiffness");
+  ankle_linear_damping = prm.get_double("Ankle linear damping");
+  ankle_angular_stiffness = prm.get_double("Ankle angular stiffness");
+  ankle_angular_damping = prm.get_double("Ankle angular damping");
+  com_height = prm.get_double("CoM height");
+  require(ankle_linear_stiffness > 0, "Robot/Ankle linear stiffness", ankle_linear_stiffness,
+          "> 0");
+  require(ankle_angular_stiffness > 0, "Robot/Ankle angular stiffness", ankle_angular_stiffness,
+          "> 0");
+}
+
+void ContactParameters::declare(dealii::ParameterHandler& prm) {
+  prm.declare_entry("Friction coefficient", "0.8", Double(0, 10), "Coulomb mu, sole/ground.");
+  prm.declare_entry("Restitution", "0", Double(0, 1), "Newton restitution e (paper eq. 5).");
+  prm.declare_entry("Position correction", "0.2", Double(0, 1),
+                    "Fraction of a penetration removed per step, (0, 1].");
+  prm.declare_entry("Solver", "admm", Selection("admm|gauss-seidel"),
+                    "Contact solver (coupling/contact).");
+  prm.declare_entry("Tolerance", "1e-8", Double(0),
+                    "Natural-map residual (m/s) at which a contact solve has converged, > 0.");
+  prm.declare_entry("Max iterations", "500", Integer(1), "Solver iterations per step.");
+  prm.declare_entry("Failure residual", "1e-4", Double(0),
+                    "A solve that stops unconverged with a residual above this (m/s) stops the "
+                    "run with an error; below it the step is counted as unconverged.");
+}
+
+void ContactParameters::parse(dealii::ParameterHandler& prm) {
+  friction = prm.get_double("Friction coefficient");
+  restitution = prm.get_double("Restitution");
+  position_correction = prm.get_double("Position correction");
+  solver = prm.get("Solver");
+  tolerance = prm.get_double("Tolerance");
+  max_iterations = prm.get_integer("Max iterations");
+  failure_residual = prm.get_double("Failure residual");
+  require(position_correction > 0, "Contact/Position correction", position_correction, "in (0, 1]");
+  require(tolerance > 0, "Contact/Tolerance", tolerance, "> 0");
+  require(failure_residual > 0, "Contact/Failure residual", failure_residual, "> 0");
+}
+
+void ControlParameters::declare(dealii::ParameterHandler& prm) {
+  prm.declare_entry("Joint stiffness", "10000", Double(0),
+                    "PD kp on every actuated joint (N m/rad): tau = kp (q_ref - q) + kd (v_ref - "
+                    "v), applied implicitly by the stepper.");
+  prm.declare_entry("Joint damping", "200", Double(0), "PD kd (N m s/rad).");
+}
+
+void ControlParameters::parse(dealii::ParameterHandler& prm) {
+  stiffness = prm.get_double("Joint stiffness");
+  damping = prm.get_double("Joint damping");
+}
+
+void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
+  const walking::WalkingParameters d;
+  prm.declare_entry("Single support time", "0.78", Double(0), "s (HRP-2: 0.78).");
+  prm.declare_entry("Double support time", "0.02", Double(0), "s, between steps (HRP-2: 0.02).");
+  prm.declare_entry("Initial double support time", "0.6", Double(0),
+                    "s, ZMP from the feet centre to the first support foot.");
+  prm.declare_entry("Final double support time", "0.62", Double(0),
+                    "s, ZMP back to the feet centre.");
+  prm.declare_entry("Standing before", "1.0", Double(0), "s, standing still before the walk.");
+  prm.declare_entry("Standing after", "1.0", Double(0), "s, standing still after the walk.");
+  prm.declare_entry("Step height", "0.07", Double(0, 0.3), "Swing-foot apex (m).");
+  prm.declare_entry("Max step length", "0.45", Double(0), "Longest swing travel allowed (m).");
+  prm.declare_entry("Right foot first", "true", Bool(), "The right foot swings first.");
+  prm.declare_entry("Initial right sole", "0, -0.105, 0", Anything(), "x, y, yaw (m, m, rad).");
+  prm.declare_entry("Initial left sole", "0, 0.105, 0", Anything(), "x, y, yaw (m, m, rad).");
+  prm.declare_entry("Footsteps", footsteps_text(d.footsteps), Anything(),
+                    "Landing placements of the successive swing feet (alternating), "
+                    "'x, y, yaw; x, y, yaw; ...' (m, m, rad); default: the paper's six steps.");
+  prm.declare_entry("Preview time", "1.6", Double(0), "Preview horizon (s), Kajita 2003.");
+}
+
+void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
+  walk.single_support_time = prm.get_double("Single support time");
+  walk.double_support_time = prm.get_double("Double support time");
+  walk.initial_double_support_time = prm.get_double("Initial double support time");
+  walk.final_double_support_time = prm.get_double("Final double support time");
+  walk.standing_before = prm.get_double("Standing before");
+  walk.standing_after = prm.get_double("Standing after");
+  walk.step_height = prm.get_double("Step height");
+  walk.max_step_length = prm.get_double("Max step length");
+  walk.right_foot_first = prm.get_bool("Right foot first");
+  walk.initial_right = parse_one(prm.get("Initial right sole"), "Walking/Initial right sole");
+  walk.initial_left = parse_one(prm.get("Initial left sole"), "Walking/Initial left sole");
+  walk.footsteps = parse_footsteps(prm.get("Footsteps"), "Walking/Footsteps");
+  if (walk.footsteps.empty())
+    throw std::invalid_argument("Walking/Footsteps is empty: give at least one 'x, y, yaw'");
+  preview_time = prm.get_double("Preview time");
+  try {
+    walking::check_walking_parameters(walk);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("Walking: ") + e.what());
+  }
+  require(preview_time > 0, "Walking/Preview time", preview_time, "> 0");
+}
+
+void LeanSceneParameters::declare(dealii::ParameterHandler& prm) {
+  prm.declare_entry("Final angle", "14.3", Double(-20, 20),
+                    "Waist roll commanded at the end of the ramp (deg; paper: 14.3).");
+  prm.declare_entry("Start time", "0.5", Double(0), "Standing before the ramp (s).");
+  prm.declare_entry("Ramp time", "3.0", Double(0), "Quintic ramp duration (s), > 0.");
+  prm.declare_entry("Hold time", "2.0", Double(0), "Holding the final angle (s).");
+}
+
+void LeanSceneParameters::parse(dealii::ParameterHandler& prm) {
+  final_angle_deg = prm.get_double("Final angle");
+  start_time = prm.get_double("Start time");
+  ramp_time = prm.get_double("Ramp time");
+  hold_time = prm.get_double("Hold time");
+  require(ramp_time > 0, "Lean/Ramp time", ramp_time, "> 0");
+}
+
+void SimulationParameters::declare(dealii::ParameterHandler& prm) {
+  prm.declare_entry("Time step", "0.001", Double(0, 0.01), "dt (s), (0, 0.01].");
+  prm.declare_entry("Duration", "0", Double(0),
+                    "Simulated time (s); 0: the whole reference (lean, walk) or 5 s plus the "
+                    "settle time (stand), 1 s (drop).");
+  prm.declare_entry("Settle time", "1.0", Double(0),
+                    "stand: time to settle before the 1 mm window is measured (s).");
+  prm.declare_entry("Release height", "0.01", Double(0, 0.5),
+                    "drop: height of the lowest contact point above the ground at release (m).");
+  prm.declare_entry("Fall height", "0.4", Double(0),
+                    "The run fails (non-zero exit) if the waist goes below this height (m).");
+  prm.declare_entry("Max penetration", "0.005", Double(0),
+                    "The run fails if a contact point sinks deeper than this into the ground (m).");
+}
+
+void SimulationParameters::parse(dealii::ParameterHandler& prm) {
+  time_step = prm.get_double("Time step");
+  duration = prm.get_double("Duration");
+  settle_time = prm.get_double("Settle time");
+  release_height = prm.get_double("Release height");
+  fall_height = prm.get_double("Fall height");
+  max_penetration = prm.get_double("Max penetration");
+  require(time_step > 0, "Simulation/Time step", time_step, "in (0, 0.01]");
+  require(max_penetration > 0, "Simulation/Max penetration", max_penetration, "> 0");
+}
+
+} // namespace plantar::app

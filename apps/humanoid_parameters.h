@@ -1,0 +1,95 @@
+#pragma once
+// Scene parameters of the humanoid scenes (stand, drop, lean, walk): one struct per .prm
+// subsection (Robot, Contact, Control, Walking, Lean, Simulation), each with declare() (name,
+// default, range, help) and parse(). The defaults are the paper's HRP-2 set-up (David et al.
+// 2008) and the public HRP-2 figures of shared/reference/hrp2.md.
+
+#include "multibody/walking/footstep_plan.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace plantar::app {
+
+/// How the feet touch the ground.
+enum class FootForm {
+  rigid,           ///< rigid soles: 8 contact points on the sole outline (corners + edge midpoints)
+  compliant_ankle, ///< rigid points + the passive 3-DoF ankle spring-damper (paper eq. 13)
+  fem_sole,        ///< a condensed linear FEM sole under each foot (paper eq. 11-12)
+};
+const char* to_string(FootForm form);
+
+/// Subsection "Robot".
+struct RobotParameters {
+  std::filesystem::path urdf_file = "models/hrp2/hrp2.urdf"; ///< resolved like Sole paths
+  FootForm foot_form = FootForm::rigid;
+  double ankle_linear_stiffness = 40000; ///< N/m, > 0 (hrp2.md, public HRP-2 flexibility)
+  double ankle_linear_damping = 600;     ///< N s/m, >= 0
+  double ankle_angular_stiffness = 600;  ///< N m/rad, > 0
+  double ankle_angular_damping = 60;     ///< N m s/rad, >= 0
+  double com_height = 0.814; ///< m, (0.5, 0.9): CoM height of the standing/walking posture
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory);
+};
+
+/// Subsection "Contact".
+struct ContactParameters {
+  double friction = 0.8;            ///< Coulomb mu, [0, 10]
+  double restitution = 0.0;         ///< Newton e, [0, 1]
+  double position_correction = 0.2; ///< fraction of a penetration removed per step, (0, 1]
+  std::string solver = "admm";      ///< admm | gauss-seidel
+  double tolerance = 1e-8;          ///< m/s, natural-map residual, > 0
+  int max_iterations = 500;         ///< >= 1
+  double failure_residual = 1e-4;   ///< m/s: an unconverged solve above this stops the run
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
+/// Subsection "Control": PD tracking of the joint reference (no stabilizer), same gains on
+/// every actuated joint: tau = kp (q_ref - q) + kd (v_ref - v).
+struct ControlParameters {
+  double stiffness = 1e4; ///< kp, N m/rad, >= 0
+  double damping = 200;   ///< kd, N m s/rad, >= 0
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
+/// Subsection "Walking": footsteps, timing and step height (walking::WalkingParameters) and
+/// the preview horizon.
+struct WalkingSceneParameters {
+  walking::WalkingParameters walk;
+  double preview_time = 1.6; ///< s, Kajita 2003
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
+/// Subsection "Lean" (the paper's inclination test).
+struct LeanSceneParameters {
+  double final_angle_deg = 14.3; ///< deg, |.| <= 20
+  double start_time = 0.5;       ///< s, >= 0
+  double ramp_time = 3.0;        ///< s, > 0
+  double hold_time = 2.0;        ///< s, >= 0
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
+/// Subsection "Simulation".
+struct SimulationParameters {
+  double time_step = 1e-3;      ///< dt, s, (0, 0.01]
+  double duration = 0;          ///< s, >= 0; 0: the whole reference (lean, walk), 5 s (stand, drop)
+  double settle_time = 1.0;     ///< s, stand: time allowed to settle before the 1 mm window
+  double release_height = 0.01; ///< m, drop: soles (or FEM sole bottoms) above the ground, >= 0
+  double fall_height = 0.4;     ///< m: the run stops as failed if the waist goes below
+  double max_penetration = 0.005; ///< m: the run stops as failed if a contact sinks deeper
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
+/// Parses "x, y, yaw; x, y, yaw; ..." (m, m, rad). @p parameter names the entry in errors.
+std::vector<walking::Footstep> parse_footsteps(const std::string& text,
+                                               const std::string& parameter);
+
+} // namespace plantar::app

@@ -1,0 +1,396 @@
+#include "apps/humanoid_simulation.h"
+
+#include "coupling/condensed_sole.h"
+#include "fem/material_table.h"
+#include "fem/mesh_generator.h"
+#include "fem/mesh_import.h"
+#include "multibody/kinematics.h"
+#include "multibody/urdf_loader.h"
+#include "multibody/walking/leg_geometry.h"
+#include "multibody/walking/walking_reference.h"
+
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace plantar::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+multibody::Model build_model(const Scene& scene) {
+  multibody::ModelOptions options;
+  if (scene.robot.foot_form == FootForm::compliant_ankle) {
+    // The HRP-2 ankle-roll links (URDF layout of models/hrp2), compliance centre at the ankle.
+    auto& ankle = options.compliant_ankle;
+    ankle.foot_links = {"RLEG_LINK5", "LLEG_LINK5"};
+    ankle.linear_stiffness = scene.robot.ankle_linear_stiffness;
+    ankle.linear_damping = scene.robot.ankle_linear_damping;
+    ankle.angular_stiffness = scene.robot.ankle_angular_stiffness;
+    ankle.angular_damping = scene.robot.ankle_angular_damping;
+  }
+  return multibody::build_model_from_urdf(scene.robot.urdf_file.string(), options);
+}
+
+double roll_of(const Eigen::Matrix3d& rotation) {
+  return std::atan2(rotation(2, 1), rotation(2, 2));
+}
+
+} // namespace
+
+HumanoidSimulation::HumanoidSimulation(const Scene& scene)
+    : scene_(scene), model_(build_model(scene)), data_(model_) {
+  const auto start = Clock::now();
+  const std::string& type = scene_.type;
+  if (type != "stand" && type != "drop" && type != "lean" && type != "walk")
+    throw std::invalid_argument("Scene type = " + type +
+                                ": a humanoid scene must be stand, drop, lean or walk");
+  const auto& sim = scene_.simulation;
+  const double dt = sim.time_step;
+  lift_ = scene_.robot.foot_form == FootForm::fem_sole ? scene_.sole.thickness : 0.0;
+
+  // Joint indices of the 30 robot joints.
+  const auto& names = walking::robot_joint_names();
+  for (int j = 0; j < walking::n_robot_joints; ++j) {
+    const int joint = model_.joint_id(names[j]);
+    joint_q_[j] = model_.idx_q[joint];
+    joint_v_[j] = model_.idx_v[joint];
+  }
+  sole_frames_ = {model_.frame_id("r_sole"), model_.frame_id("l_sole")};
+
+  // Reference.
+  const auto urdf = walking::load_urdf(scene_.robot.urdf_file.string());
+  walking::UpperBodyPosture posture;
+  posture.com_height = scene_.robot.com_height;
+  const auto& walk = scene_.walking.walk;
+  double duration = sim.duration;
+  if (type == "stand") {
+    if (duration <= 0)
+      duration = sim.settle_time + 5.0;
+    reference_ = walking::make_standing_reference(*urdf, duration, walk.initial_right,
+                                                  walk.initial_left, posture);
+  } else if (type == "drop") {
+    if (duration <= 0)
+      duration = 1.0;
+    // Straight legs (all leg joints 0), the half-sitting upper body, waist upright above the
+    // origin at the height that puts the soles on z = 0.
+    walking::RobotAngles angles = posture.angles;
+    angles.head<12>().setZero();
+    Eigen::VectorXd q0 = model_.neutral_configuration();
+    for (int j = 0; j < walking::n_robot_joints; ++j)
+      q0[joint_q_[j]] = angles[j];
+    multibody::forward_kinematics(model_, data_, q0);
+    const double sole_z =
+        multibody::frame_placement(model_, data_, sole_frames_[0]).translation.z();
+    Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+    base.translation() << 0, 0, -sole_z;
+    reference_.resize(2, duration);
+    reference_.set(0, base, angles, Eigen::Vector3d::Zero());
+    reference_.set(1, base, angles, Eigen::Vector3d::Zero());
+    lift_ += sim.release_height; // only the initial state: the base is not actuated
+  } else if (type == "lean") {
+    walking::LeanParameters lean;
+    lean.final_angle = scene_.lean.final_angle_deg * M_PI / 180.0;
+    lean.start_time = scene_.lean.start_time;
+    lean.ramp_time = scene_.lean.ramp_time;
+    lean.hold_time = scene_.lean.hold_time;
+    reference_ = walking::make_lean_reference(*urdf, lean, posture);
+  } else {
+    walking::PreviewControlParameters preview;
+    preview.period = walk.period;
+    preview.preview_time = scene_.walking.preview_time;
+    const auto pattern = walking::make_walking_pattern(*urdf, walk, preview, posture);
+    reference_ = pattern.reference;
+  }
+  if (duration <= 0)
+    duration = reference_.duration();
+  n_steps_ = static_cast<int>(std::lround(duration / dt));
+  settle_time_ = type == "stand" ? sim.settle_time : 0.0;
+
+  // Stepper and feet.
+  multibody::StepperParameters stepper_parameters;
+  stepper_parameters.time_step = dt;
+  stepper_parameters.normal_bias.restitution = scene_.contact.restitution;
+  stepper_parameters.normal_bias.position_correction = scene_.contact.position_correction;
+  stepper_parameters.solver.solver = scene_.contact.solver == "admm"
+                                         ? coupling::ContactSolverType::admm
+                                         : coupling::ContactSolverType::gauss_seidel;
+  stepper_parameters.solver.tolerance = scene_.contact.tolerance;
+  stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
+  const double mu = scene_.contact.friction;
+
+  Eigen::Matrix3Xd nodes; // sole frame
+  if (scene_.robot.foot_form == FootForm::fem_sole) {
+    auto request = scene_.sole.mesh_request();
+    if (request.cache_directory.empty())
+      request.cache_directory = fem::default_mesh_cache();
+    const auto msh = fem::generate_mesh(request);
+    dealii::Triangulation<3> tria;
+    const auto groups = fem::import_mesh(msh, {"top", "bottom"}, tria);
+    const fem::MaterialTable materials(
+        fem::parse_material_specs(scene_.sole.materials, "Sole/Materials"), groups);
+    coupling::CondensationParameters condensation;
+    condensation.attached_boundary = groups.surface("top");
+    condensation.contact_boundary = groups.surface("bottom");
+    condensation.degree = scene_.sole.degree;
+    sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
+    nodes = sole_->contact_positions().transpose();
+    summary_.n_sole_nodes = sole_->n_contacts();
+    stepper_parameters.max_contacts = 2 * sole_->n_contacts();
+  } else {
+    const double a = scene_.sole.length / 2, b = scene_.sole.width / 2;
+    nodes.resize(3, 8);
+    nodes << a, a, a, 0, -a, -a, -a, 0, //
+        -b, 0, b, b, b, 0, -b, -b,      //
+        0, 0, 0, 0, 0, 0, 0, 0;
+    stepper_parameters.max_contacts = 16;
+  }
+  stepper_ = std::make_unique<multibody::Stepper>(model_, stepper_parameters);
+  stepper_->set_gains(
+      multibody::PdGains::Uniform(model_, scene_.control.stiffness, scene_.control.damping));
+  for (int foot = 0; foot < 2; ++foot) {
+    const multibody::Frame& frame = model_.frames[sole_frames_[foot]];
+    Eigen::Matrix3Xd body_nodes(3, nodes.cols());
+    for (int k = 0; k < nodes.cols(); ++k)
+      body_nodes.col(k) = frame.placement.act_point(nodes.col(k));
+    if (sole_) {
+      // C in the body frame: R C R^T per 3x3 block, R = sole -> body rotation.
+      const int n = static_cast<int>(nodes.cols());
+      Eigen::MatrixXd rotation = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+      for (int k = 0; k < n; ++k)
+        rotation.block<3, 3>(3 * k, 3 * k) = frame.placement.rotation;
+      const Eigen::MatrixXd compliance = rotation * sole_->compliance() * rotation.transpose();
+      const int patch = stepper_->add_compliant_patch(frame.body, body_nodes, compliance, mu);
+      for (int k = 0; k < n; ++k)
+        feet_[foot].push_back({k, patch, frame.body, body_nodes.col(k)});
+    } else {
+      for (int k = 0; k < body_nodes.cols(); ++k)
+        feet_[foot].push_back({stepper_->add_contact_point(frame.body, body_nodes.col(k), mu), -1,
+                               frame.body, body_nodes.col(k)});
+    }
+  }
+
+  // Initial state: the reference at t = 0, lifted; at rest.
+  q_ = model_.neutral_configuration();
+  v_ = Eigen::VectorXd::Zero(model_.nv);
+  tau_ = Eigen::VectorXd::Zero(model_.nv);
+  v_ref_ = Eigen::VectorXd::Zero(model_.nv);
+  q_ref_ = q_;
+  reference_at(0.0, q_);
+  q_ref_prev_ = q_;
+  if (type == "drop") {
+    // The planned (reference) base is on the ground: lift_ only applies to the initial state.
+    lift_ -= sim.release_height;
+  }
+
+  // Planned sole positions at the end (reference kinematics, lifted).
+  {
+    Eigen::VectorXd q_end = q_;
+    reference_at(n_steps_ * dt, q_end);
+    multibody::forward_kinematics(model_, data_, q_end);
+    summary_.planned_right_sole =
+        multibody::frame_placement(model_, data_, sole_frames_[0]).translation;
+    summary_.planned_left_sole =
+        multibody::frame_placement(model_, data_, sole_frames_[1]).translation;
+  }
+
+  // Output tables.
+  const int rows = n_steps_ / scene_.output.output_every + 2;
+  waist_ = TimeSeries({"t", "x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az", "roll", "pitch",
+                       "yaw", "roll_ref", "z_ref"},
+                      rows);
+  std::vector<std::string> joint_columns{"t"};
+  for (const auto& name : names)
+    for (const char* suffix : {"_q", "_ref", "_tau"})
+      joint_columns.push_back(name + suffix);
+  joints_ = TimeSeries(joint_columns, rows);
+  contacts_ = TimeSeries({"t", "right_fx", "right_fy", "right_fz", "right_copx", "right_copy",
+                          "left_fx", "left_fy", "left_fz", "left_copx", "left_copy", "zmp_x",
+                          "zmp_y", "n_contacts", "solver_iterations", "solver_residual"},
+                         rows);
+  summary_.time_step = dt;
+  summary_.setup_wall_time = seconds_since(start);
+}
+
+HumanoidSimulation::~HumanoidSimulation() = default;
+
+void HumanoidSimulation::reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_out) {
+  Eigen::Isometry3d base;
+  reference_.sample(t, angles_, base);
+  if (model_.has_free_base()) {
+    q_out.head<3>() = base.translation();
+    q_out[2] += lift_;
+    const Eigen::Quaterniond rotation(base.linear());
+    q_out.segment<4>(3) << rotation.x(), rotation.y(), rotation.z(), rotation.w();
+  }
+  for (int j = 0; j < walking::n_robot_joints; ++j)
+    q_out[joint_q_[j]] = angles_[j];
+}
+
+void HumanoidSimulation::fail(const std::string& what) const {
+  std::ostringstream msg;
+  msg << scene_.type << " (" << to_string(scene_.robot.foot_form) << "): step " << step_
+      << ", t = " << step_ * summary_.time_step << " s: " << what;
+  throw std::runtime_error(msg.str());
+}
+
+void HumanoidSimulation::step() {
+  if (step_ >= n_steps_)
+    return;
+  const double dt = summary_.time_step;
+  const double t_next = (step_ + 1) * dt;
+  reference_at(t_next, q_ref_);
+  for (int j = 0; j < walking::n_robot_joints; ++j)
+    v_ref_[joint_v_[j]] = (q_ref_[joint_q_[j]] - q_ref_prev_[joint_q_[j]]) / dt;
+  q_ref_prev_ = q_ref_;
+
+  multibody::StepReport report;
+  try {
+    report = stepper_->step(q_, v_, tau_, q_ref_, v_ref_);
+  } catch (const std::exception& e) {
+    fail(std::string("stepper: ") + e.what());
+  }
+  ++step_;
+  if (!q_.allFinite() || !v_.allFinite())
+    fail("non-finite configuration or velocity");
+  summary_.max_active_contacts = std::max(summary_.max_active_contacts, report.n_contacts);
+  if (report.n_contacts > 0) {
+    summary_.max_solver_residual = std::max(summary_.max_solver_residual, report.solver.residual);
+    if (!report.solver.converged()) {
+      ++summary_.n_unconverged;
+      if (!(report.solver.residual <= scene_.contact.failure_residual)) {
+        std::ostringstream msg;
+        msg << "contact solver " << coupling::to_string(report.solver.status) << " after "
+            << report.solver.iterations << " iterations, residual " << report.solver.residual
+            << " m/s > Contact/Failure residual " << scene_.contact.failure_residual;
+        fail(msg.str());
+      }
+    }
+  }
+
+  // Waist.
+  const Eigen::Quaterniond base_rotation(q_[6], q_[3], q_[4], q_[5]);
+  const Eigen::Matrix3d rotation = base_rotation.toRotationMatrix();
+  const Eigen::Vector3d velocity = rotation * v_.head<3>();
+  const Eigen::Vector3d acceleration = (velocity - waist_velocity_) / dt;
+  waist_velocity_ = velocity;
+  summary_.max_waist_acceleration_z =
+      std::max(summary_.max_waist_acceleration_z, std::abs(acceleration.z()));
+  summary_.max_waist_height_error =
+      std::max(summary_.max_waist_height_error, std::abs(q_[2] - q_ref_[2]));
+  summary_.min_waist_height = std::min(summary_.min_waist_height, q_[2]);
+  if (q_[2] < scene_.simulation.fall_height) {
+    std::ostringstream msg;
+    msg << "the robot fell: waist height " << q_[2] << " m < Simulation/Fall height "
+        << scene_.simulation.fall_height << " m";
+    fail(msg.str());
+  }
+  const Eigen::Quaterniond ref_rotation(q_ref_[6], q_ref_[3], q_ref_[4], q_ref_[5]);
+  const double roll = roll_of(rotation), roll_ref = roll_of(ref_rotation.toRotationMatrix());
+  summary_.final_roll = roll;
+  summary_.commanded_roll = roll_ref;
+  summary_.max_roll_difference = std::max(summary_.max_roll_difference, std::abs(roll_ref - roll));
+  const double t = step_ * dt;
+  if (settle_time_ > 0 && t >= settle_time_) {
+    if (t - dt < settle_time_)
+      settle_position_ = q_.head<3>();
+    summary_.stand_window_deviation =
+        std::max(summary_.stand_window_deviation, (q_.head<3>() - settle_position_).norm());
+  }
+
+  // Contacts: forces, centres of pressure, ZMP, penetration.
+  multibody::forward_kinematics(model_, data_, q_);
+  std::array<Eigen::Vector3d, 2> force, moment; // moment: (sum f_z x, sum f_z y, -)
+  for (int foot = 0; foot < 2; ++foot) {
+    force[foot].setZero();
+    moment[foot].setZero();
+    for (const FootContact& c : feet_[foot]) {
+      const Eigen::Vector3d& p = c.patch >= 0 ? stepper_->node_impulse(c.patch, c.point)
+                                              : stepper_->point_impulse(c.point);
+      const Eigen::Vector3d f(p[1] / dt, p[2] / dt, p[0] / dt); // (n, t1, t2) -> (x, y, z)
+      const Eigen::Vector3d x = data_.oMi[c.body].act_point(c.position);
+      force[foot] += f;
+      moment[foot].x() += f.z() * x.x();
+      moment[foot].y() += f.z() * x.y();
+      double z = x.z();
+      if (c.patch >= 0)
+        z += stepper_->patch_displacement(c.patch)[3 * c.point];
+      summary_.max_penetration = std::max(summary_.max_penetration, -z);
+    }
+  }
+  if (summary_.max_penetration > scene_.simulation.max_penetration) {
+    std::ostringstream msg;
+    msg << "a contact point is " << summary_.max_penetration
+        << " m deep in the ground > Simulation/Max penetration "
+        << scene_.simulation.max_penetration << " m";
+    fail(msg.str());
+  }
+  summary_.final_contact_force = force[0] + force[1];
+  summary_.n_steps = step_;
+  summary_.simulated_time = t;
+  if (step_ == n_steps_) {
+    summary_.final_right_sole =
+        multibody::frame_placement(model_, data_, sole_frames_[0]).translation;
+    summary_.final_left_sole =
+        multibody::frame_placement(model_, data_, sole_frames_[1]).translation;
+  }
+
+  if (!scene_.output.write_csv || (step_ % scene_.output.output_every != 0 && step_ != n_steps_))
+    return;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto w = waist_.append();
+  w << t, q_[0], q_[1], q_[2], velocity.x(), velocity.y(), velocity.z(), acceleration.x(),
+      acceleration.y(), acceleration.z(), roll, std::asin(-rotation(2, 0)),
+      std::atan2(rotation(1, 0), rotation(0, 0)), roll_ref, q_ref_[2];
+  auto jr = joints_.append();
+  jr[0] = t;
+  const auto& gains = stepper_->gains();
+  for (int j = 0; j < walking::n_robot_joints; ++j) {
+    const int iq = joint_q_[j], iv = joint_v_[j];
+    jr[1 + 3 * j] = q_[iq];
+    jr[2 + 3 * j] = q_ref_[iq];
+    jr[3 + 3 * j] =
+        gains.stiffness[iv] * (q_ref_[iq] - q_[iq]) + gains.damping[iv] * (v_ref_[iv] - v_[iv]);
+  }
+  auto cr = contacts_.append();
+  cr[0] = t;
+  const double min_load = 1.0; // N: below it a foot's CoP is not defined (nan)
+  for (int foot = 0; foot < 2; ++foot) {
+    const int c0 = 1 + 5 * foot;
+    cr[c0] = force[foot].x();
+    cr[c0 + 1] = force[foot].y();
+    cr[c0 + 2] = force[foot].z();
+    const bool loaded = force[foot].z() > min_load;
+    cr[c0 + 3] = loaded ? moment[foot].x() / force[foot].z() : nan;
+    cr[c0 + 4] = loaded ? moment[foot].y() / force[foot].z() : nan;
+  }
+  const double fz = force[0].z() + force[1].z();
+  cr[11] = fz > min_load ? (moment[0].x() + moment[1].x()) / fz : nan;
+  cr[12] = fz > min_load ? (moment[0].y() + moment[1].y()) / fz : nan;
+  cr[13] = report.n_contacts;
+  cr[14] = report.solver.iterations;
+  cr[15] = report.solver.residual;
+}
+
+void HumanoidSimulation::run() {
+  const auto start = Clock::now();
+  while (step_ < n_steps_)
+    step();
+  summary_.loop_wall_time += seconds_since(start);
+}
+
+void HumanoidSimulation::write_csv(const std::filesystem::path& directory) const {
+  std::filesystem::create_directories(directory);
+  waist_.write_csv(directory / "waist.csv");
+  joints_.write_csv(directory / "joints.csv");
+  contacts_.write_csv(directory / "contacts.csv");
+}
+
+} // namespace plantar::app

@@ -1,0 +1,127 @@
+#pragma once
+// The humanoid scenes (stand, drop, lean, walk): the time loop joining the multibody stepper,
+// the joint reference (multibody/walking) and the feet in one of three forms (rigid points,
+// compliant ankles, condensed FEM soles). Records CSV time series and the paper's figures.
+//
+// Per step n (t_n = n dt -> t_{n+1}):
+//   q_ref = reference(t_{n+1}),  v_ref = (reference(t_{n+1}) - reference(t_n)) / dt
+//   Stepper::step (implicit PD: tau = kp (q_ref - q+) + kd (v_ref - v+), the torque recorded)
+//   waist velocity (world) v_w = R_base v_base,lin;  acceleration a_n = (v_w,n+1 - v_w,n) / dt
+//   (backward difference of consecutive step velocities; v_w,0 = 0 at rest)
+//   per foot: force F = sum p_k / dt (world), CoP = sum f_z,k x_k / sum f_z,k over its contact
+//   points x_k (world, after the step); ZMP = the same over both feet (flat ground z = 0).
+// Failures stop the run with std::runtime_error naming the step and time: non-finite state,
+// an unconverged contact solve with residual above Contact/Failure residual, a contact deeper
+// than Simulation/Max penetration, the waist below Simulation/Fall height.
+// Everything is allocated by the constructor; step() allocates nothing.
+
+#include "apps/scene.h"
+#include "apps/time_series.h"
+#include "multibody/data.h"
+#include "multibody/model.h"
+#include "multibody/stepper.h"
+#include "multibody/walking/joint_reference.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plantar::coupling {
+class CondensedSole;
+}
+
+namespace plantar::app {
+
+/// Figures of a humanoid run (SI units; accelerations in m/s^2).
+struct HumanoidSummary {
+  int n_steps = 0;                     ///< steps done
+  double time_step = 0;                ///< s
+  double simulated_time = 0;           ///< s
+  double setup_wall_time = 0;          ///< s: reference, model, sole condensation
+  double loop_wall_time = 0;           ///< s: the time loop
+  int n_sole_nodes = 0;                ///< fem sole: contact nodes per foot
+  int max_active_contacts = 0;         ///< most contact points in one step
+  int n_unconverged = 0;               ///< contact solves stopped above the tolerance
+  double max_solver_residual = 0;      ///< m/s, over all solves
+  double max_penetration = 0;          ///< m, deepest contact point (deformed sole included)
+  double max_waist_acceleration_z = 0; ///< max |a_z| of the waist over the run
+  double max_waist_height_error = 0;   ///< max |z - z_ref| of the waist, m
+  double min_waist_height = 1e9;       ///< m
+  double stand_window_deviation = 0;   ///< max |p_waist(t) - p_waist(settle)| for t >= settle, m
+  double final_roll = 0;               ///< measured waist roll at the end, rad
+  double commanded_roll = 0;           ///< commanded waist roll at the end, rad
+  double max_roll_difference = 0;      ///< max |commanded - measured| roll, rad
+  Eigen::Vector3d final_right_sole = Eigen::Vector3d::Zero(); ///< r_sole origin (world) at end
+  Eigen::Vector3d final_left_sole = Eigen::Vector3d::Zero();
+  Eigen::Vector3d planned_right_sole = Eigen::Vector3d::Zero(); ///< planned (reference) at end
+  Eigen::Vector3d planned_left_sole = Eigen::Vector3d::Zero();
+  Eigen::Vector3d final_contact_force = Eigen::Vector3d::Zero(); ///< both feet, N, world
+  /// Wall seconds of the loop per simulated second.
+  double cost() const { return simulated_time > 0 ? loop_wall_time / simulated_time : 0; }
+};
+
+class HumanoidSimulation {
+public:
+  /// Builds the reference, the model, the stepper and the feet for @p scene (type stand,
+  /// drop, lean or walk). Throws std::invalid_argument / std::runtime_error naming the
+  /// parameter or the failing part (e.g. a leg pose out of reach).
+  explicit HumanoidSimulation(const Scene& scene);
+  ~HumanoidSimulation();
+  HumanoidSimulation(const HumanoidSimulation&) = delete;
+  HumanoidSimulation& operator=(const HumanoidSimulation&) = delete;
+
+  int n_steps() const { return n_steps_; }
+  int steps_done() const { return step_; }
+  /// One time step (see the file comment). No heap allocation.
+  void step();
+  /// All remaining steps; fills summary().loop_wall_time.
+  void run();
+
+  const HumanoidSummary& summary() const { return summary_; }
+  const TimeSeries& waist_series() const { return waist_; }
+  const TimeSeries& joint_series() const { return joints_; }
+  const TimeSeries& contact_series() const { return contacts_; }
+  /// Writes waist.csv, joints.csv, contacts.csv into @p directory (atomically).
+  void write_csv(const std::filesystem::path& directory) const;
+  const multibody::Model& model() const { return model_; }
+  const Eigen::VectorXd& q() const { return q_; }
+  /// Lift of the whole robot above the reference (m): the sole thickness for fem sole.
+  double reference_lift() const { return lift_; }
+
+private:
+  struct FootContact {
+    int point = -1; ///< stepper point index, or node index of patch `patch`
+    int patch = -1; ///< >= 0 for an FEM sole node
+    int body = 0;
+    Eigen::Vector3d position; ///< body coordinates, m
+  };
+  void reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_out);
+  [[noreturn]] void fail(const std::string& what) const;
+
+  Scene scene_;
+  double lift_ = 0;
+  multibody::Model model_;
+  walking::JointReference reference_;
+  std::unique_ptr<coupling::CondensedSole> sole_;
+  std::unique_ptr<multibody::Stepper> stepper_;
+  multibody::Data data_;
+  std::array<std::vector<FootContact>, 2> feet_; ///< right, left
+  std::array<int, 2> sole_frames_{};
+  std::array<int, walking::n_robot_joints> joint_q_{}, joint_v_{};
+  int n_steps_ = 0, step_ = 0;
+  double settle_time_ = 0;
+
+  // Workspaces.
+  Eigen::VectorXd q_, v_, q_ref_, q_ref_prev_, v_ref_, tau_;
+  walking::RobotAngles angles_;
+  Eigen::Vector3d waist_velocity_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d settle_position_ = Eigen::Vector3d::Zero();
+  TimeSeries waist_, joints_, contacts_;
+  HumanoidSummary summary_;
+};
+
+} // namespace plantar::app

@@ -1,0 +1,56 @@
+#pragma once
+// A scene: every physical and numerical parameter of a run, read from a .prm
+// file with deal.II's ParameterHandler. Each subsection is one struct with
+// declare() and parse().
+
+#include "apps/humanoid_parameters.h"
+#include "fem/sole_parameters.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <filesystem>
+#include <string>
+
+namespace plantar::app {
+
+/// Subsection "Static load": a uniform ground reaction on the sole's bottom face.
+struct StaticLoadParameters {
+  double normal_force = 600; ///< N, total, pushing the bottom face up (+z)
+  double tangential_x = 0;   ///< N, total, along x
+  double tangential_y = 0;   ///< N, total, along y
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
+/// Subsection "Output".
+struct OutputParameters {
+  bool write_vtu = true;
+  bool write_csv = true; ///< humanoid scenes: CSV time series
+  int output_every = 1;  ///< humanoid scenes: one CSV row every this many steps, >= 1
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
+struct Scene {
+  std::string type = "static sole"; ///< static sole | stand | drop | lean | walk
+  fem::SoleParameters sole;
+  StaticLoadParameters static_load;
+  RobotParameters robot;
+  ContactParameters contact;
+  ControlParameters control;
+  WalkingSceneParameters walking;
+  LeanSceneParameters lean;
+  SimulationParameters simulation;
+  OutputParameters output;
+
+  /// Declares every subsection in @p prm.
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory);
+};
+
+/// Declares, reads @p file and parses it. Throws std::runtime_error with one
+/// clear message naming the file (and, for syntax or pattern errors, the line,
+/// the parameter, its value and the allowed pattern).
+Scene load_scene(const std::filesystem::path& file, dealii::ParameterHandler& prm);
+
+} // namespace plantar::app

@@ -1,0 +1,36 @@
+# plantar_add_test(NAME name SOURCES a.cc ... LIBS lib ... LABELS unit|validation|slow ... [ARGS ...] [TIMEOUT s])
+# One GoogleTest executable registered as one ctest test with labels.
+include_guard(GLOBAL)
+find_package(GTest REQUIRED)
+function(plantar_add_test)
+  cmake_parse_arguments(T "" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS;ARGS" ${ARGN})
+  add_executable(${T_NAME} ${T_SOURCES})
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main plantar_warnings)
+  target_compile_definitions(${T_NAME} PRIVATE PLANTAR_SOURCE_DIR="${PLANTAR_SOURCE_DIR}")
+  add_test(NAME ${T_NAME} COMMAND ${T_NAME} ${T_ARGS} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 600)
+  endif()
+  set_tests_properties(${T_NAME} PROPERTIES LABELS "${T_LABELS}" TIMEOUT ${T_TIMEOUT})
+endfunction()
+
+# plantar_add_test_case(NAME name EXE executable FILTER gtest_filter LABELS ... [TIMEOUT s])
+# Registers one more ctest test running a subset of an existing GoogleTest executable.
+function(plantar_add_test_case)
+  cmake_parse_arguments(T "" "NAME;EXE;FILTER;TIMEOUT" "LABELS" ${ARGN})
+  add_test(NAME ${T_NAME} COMMAND ${T_EXE} --gtest_filter=${T_FILTER}
+           WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+  if(NOT T_TIMEOUT)
+    set(T_TIMEOUT 600)
+  endif()
+  set_tests_properties(${T_NAME} PROPERTIES LABELS "${T_LABELS}" TIMEOUT ${T_TIMEOUT})
+endfunction()
+
+# plantar_add_test_executable(NAME exe SOURCES ... LIBS ...): a GoogleTest
+# executable whose suites are registered with plantar_add_test_case.
+function(plantar_add_test_executable)
+  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS" ${ARGN})
+  add_executable(${T_NAME} ${T_SOURCES})
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main plantar_warnings)
+  target_compile_definitions(${T_NAME} PRIVATE PLANTAR_SOURCE_DIR="${PLANTAR_SOURCE_DIR}")
+endfunction()

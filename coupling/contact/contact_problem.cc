@@ -1,0 +1,95 @@
+#include "coupling/contact/contact_problem.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace plantar::coupling {
+
+namespace {
+[[noreturn]] void fail(const std::string& what) {
+  throw std::invalid_argument("ContactProblem: " + what);
+}
+} // namespace
+
+void ContactProblem::validate() const {
+  const int n_max = max_contacts();
+  if (n_contacts < 0 || n_contacts > n_max)
+    fail("n_contacts = " + std::to_string(n_contacts) +
+         " outside [0, max_contacts = " + std::to_string(n_max) + "]");
+  if (rigid_factor.rows() != 3 * n_max || free_velocity.size() != 3 * n_max ||
+      normal_bias.size() != n_max)
+    fail("storage not sized by resize(): rigid_factor rows " + std::to_string(rigid_factor.rows()) +
+         ", free_velocity " + std::to_string(free_velocity.size()) + ", normal_bias " +
+         std::to_string(normal_bias.size()) + ", expected 3*" + std::to_string(n_max) + ", 3*" +
+         std::to_string(n_max) + ", " + std::to_string(n_max));
+  for (int k = 0; k < n_contacts; ++k) {
+    if (!(friction[k] >= 0.0) || !std::isfinite(friction[k]))
+      fail("friction[" + std::to_string(k) + "] = " + std::to_string(friction[k]) +
+           ", allowed [0, inf)");
+    if (!std::isfinite(normal_bias[k]))
+      fail("normal_bias[" + std::to_string(k) + "] is not finite");
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(free_velocity[3 * k + i]))
+        fail("free_velocity[" + std::to_string(3 * k + i) + "] is not finite");
+  }
+  if (!rigid_factor.topRows(3 * n_contacts).allFinite())
+    fail("rigid_factor has non-finite entries");
+  int previous_end = 0;
+  for (std::size_t j = 0; j < patches.size(); ++j) {
+    const CompliantPatch& patch = patches[j];
+    const std::string name = "patches[" + std::to_string(j) + "]";
+    if (patch.first_contact < previous_end || patch.n_contacts < 0 ||
+        patch.first_contact + patch.n_contacts > n_contacts)
+      fail(name + " range [" + std::to_string(patch.first_contact) + ", " +
+           std::to_string(patch.first_contact + patch.n_contacts) +
+           ") must be sorted, disjoint and inside [0, n_contacts = " + std::to_string(n_contacts) +
+           ")");
+    previous_end = patch.first_contact + patch.n_contacts;
+    if (patch.compliance_over_dt.rows() != 3 * patch.n_contacts ||
+        patch.compliance_over_dt.cols() != 3 * patch.n_contacts)
+      fail(name + ".compliance_over_dt is " + std::to_string(patch.compliance_over_dt.rows()) +
+           "x" + std::to_string(patch.compliance_over_dt.cols()) + ", expected " +
+           std::to_string(3 * patch.n_contacts) + " square");
+    if (!patch.compliance_over_dt.allFinite())
+      fail(name + ".compliance_over_dt has non-finite entries");
+  }
+}
+
+Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
+  const auto g_k = rigid_factor.middleRows(3 * contact, 3);
+  Eigen::Matrix3d block = g_k * g_k.transpose();
+  for (const CompliantPatch& patch : patches) {
+    const int local = contact - patch.first_contact;
+    if (local >= 0 && local < patch.n_contacts)
+      block += patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local);
+  }
+  return block;
+}
+
+void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
+                                    Eigen::Ref<Eigen::VectorXd> rigid_work,
+                                    Eigen::Ref<Eigen::VectorXd> out) const {
+  const int n3 = 3 * n_contacts;
+  const int m = rigid_rank();
+  auto g = rigid_factor.topRows(n3);
+  rigid_work.head(m).noalias() = g.transpose() * p.head(n3);
+  out.head(n3).noalias() = g * rigid_work.head(m);
+  for (const CompliantPatch& patch : patches) {
+    const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+    out.segment(first, size).noalias() += patch.compliance_over_dt * p.segment(first, size);
+  }
+}
+
+void ContactProblem::assemble_delassus(Eigen::MatrixXd& delassus) const {
+  const int n3 = 3 * n_contacts;
+  auto g = rigid_factor.topRows(n3);
+  delassus.resize(n3, n3);
+  delassus.noalias() = g * g.transpose();
+  for (const CompliantPatch& patch : patches) {
+    const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+    delassus.block(first, first, size, size) += patch.compliance_over_dt;
+  }
+}
+
+} // namespace plantar::coupling

@@ -1,0 +1,95 @@
+#pragma once
+// The velocity-level frictional contact problem of one time step
+// (David et al. 2008, eqs. 4, 5 and 12; Moreau-Jean).
+//
+// For n active contacts, unknown impulses p (3n, N s), contact k owning rows
+// 3k (normal), 3k+1, 3k+2 (two tangents), in its local frame:
+//
+//   v = W p + v_free                                 (3n, m/s)
+//   W = G G^T + blockdiag(C_j / dt^2)                (3n x 3n, m/(N s^2))
+//
+//   G (3n x m): the rigid part, J M^-1 J^T = G G^T with G = J L^-T, M = L L^T,
+//               so W_rigid is applied through its low rank m (<= n_v).
+//   C_j       : dense compliance of a compliant patch (a condensed sole,
+//               m/N), already rotated into the contact frames. The paper's
+//               eq. 12 is written for forces F: (W_F + C/dt) F with
+//               W_F = dt J M^-1 J^T. With impulses p = F dt the same block is
+//               C/dt^2 (see docs/contact.md and compliance_terms.h).
+//
+// Conditions, per contact k (Signorini with Newton impact, exact Coulomb cone):
+//   0 <= p_n  _|_  v_n + b_k >= 0,   ||p_t|| <= mu_k p_n,
+//   and p_t opposes the sliding velocity when ||p_t|| = mu_k p_n.
+//   b_k collects e v_n^- (restitution, eq. 5), the position correction and
+//   the speculative gap term of the stepper (normal_bias() in
+//   position_correction.h). The deformation-rate term of eq. 12,
+//   -U_c^{t-dt}/dt, is three-dimensional and is added to free_velocity
+//   (compliance_terms.h).
+//
+// Storage is sized once by resize(max_contacts, rigid_rank) before the time
+// loop; each step sets n_contacts <= max_contacts and fills the leading rows,
+// so building and solving a problem allocates nothing. (The patch matrices
+// must likewise be sized before the loop.)
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace plantar::coupling {
+
+/// A dense compliance block acting on the contiguous contacts
+/// [first_contact, first_contact + n_contacts).
+struct CompliantPatch {
+  int first_contact = 0;
+  int n_contacts = 0;
+  /// (3 n_contacts x 3 n_contacts), symmetric positive semi-definite, the
+  /// compliance block of the impulse-form Delassus operator, C / dt^2 in the
+  /// contact frames, m/(N s^2). (The name follows eq. 12, where C/dt
+  /// multiplies forces; set it with set_patch_compliance(), which divides the
+  /// compliance C (m/N) by dt^2.)
+  Eigen::MatrixXd compliance_over_dt;
+};
+
+struct ContactProblem {
+  /// Allocates storage for up to @p max_contacts contacts and a rigid factor
+  /// with @p rigid_rank columns. Call once, outside the time loop.
+  void resize(int max_contacts, int rigid_rank) {
+    rigid_factor.setZero(3 * max_contacts, rigid_rank);
+    free_velocity.setZero(3 * max_contacts);
+    normal_bias.setZero(max_contacts);
+    friction.setZero(max_contacts);
+    n_contacts = 0;
+  }
+  int max_contacts() const { return static_cast<int>(friction.size()); }
+  /// Number of columns m of the rigid factor G.
+  int rigid_rank() const { return static_cast<int>(rigid_factor.cols()); }
+
+  /// Throws std::invalid_argument naming the field and value if sizes,
+  /// friction (mu >= 0, finite), patch ranges (disjoint, inside
+  /// [0, n_contacts), square blocks of size 3 n_contacts) or data are invalid.
+  /// Does not allocate.
+  void validate() const;
+
+  /// W_kk (3x3): diagonal block of contact k, G_k G_k^T + its patch block.
+  Eigen::Matrix3d diagonal_block(int contact) const;
+
+  /// out = W p for the leading 3 n_contacts rows, applying G G^T through its
+  /// low rank: out = G (G^T p) + blockdiag(C_j/dt^2) p.
+  /// @param p (3 n_contacts) impulses, N s.
+  /// @param rigid_work (>= m) scratch for G^T p.
+  /// @param out (3 n_contacts) velocities, m/s. Does not allocate.
+  void apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
+                      Eigen::Ref<Eigen::VectorXd> rigid_work,
+                      Eigen::Ref<Eigen::VectorXd> out) const;
+
+  /// Dense W (3 n_contacts square), for tests, diagnostics and small problems
+  /// (allocates when @p delassus is resized).
+  void assemble_delassus(Eigen::MatrixXd& delassus) const;
+
+  int n_contacts = 0;                  ///< active contacts, first rows used
+  Eigen::MatrixXd rigid_factor;        ///< G, (3 max_contacts x m)
+  std::vector<CompliantPatch> patches; ///< compliant blocks, disjoint ranges
+  Eigen::VectorXd free_velocity;       ///< v_free, (3 max_contacts), m/s
+  Eigen::VectorXd normal_bias;         ///< b, (max_contacts), m/s
+  Eigen::VectorXd friction;            ///< mu, (max_contacts), dimensionless
+};
+
+} // namespace plantar::coupling

@@ -1,0 +1,137 @@
+#include "coupling/contact/contact_solver.h"
+
+#include "coupling/contact/coulomb_cone.h"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace plantar::coupling {
+
+void ContactSolver::resize(int max_contacts, int rigid_rank) {
+  if (max_contacts < 0 || rigid_rank < 0) {
+    std::ostringstream msg;
+    msg << "ContactSolver::resize: max_contacts = " << max_contacts
+        << ", rigid_rank = " << rigid_rank << ", both must be >= 0";
+    throw std::invalid_argument(msg.str());
+  }
+  max_contacts_ = max_contacts;
+  rigid_rank_ = rigid_rank;
+  const int n3 = 3 * max_contacts;
+  velocity_.setZero(n3);
+  rigid_work_.setZero(rigid_rank);
+  rigid_work2_.setZero(rigid_rank);
+  de_saxce_.setZero(max_contacts);
+  diag_blocks_.setZero(3, n3);
+  eta_.setZero(max_contacts);
+  patch_of_.setConstant(max_contacts, -1);
+  patch_velocity_.setZero(n3);
+  x_.setZero(n3);
+  z_.setZero(n3);
+  z_prev_.setZero(n3);
+  dual_.setZero(n3);
+  rhs_.setZero(n3);
+  tmp_.setZero(n3);
+  patch_factor_.setZero(n3, n3);
+  patch_copy_.setZero(n3, n3);
+  cached_first_.setConstant(max_contacts, -1);
+  cached_size_.setConstant(max_contacts, -1);
+  n_cached_patches_ = -1;
+  cached_shift_ = -1.0;
+  last_rho_ = 0.0;
+  n_patch_factorizations_ = 0;
+  low_rank_.setZero(n3, rigid_rank);
+  capacitance_.setZero(rigid_rank, rigid_rank);
+}
+
+void ContactSolver::prepare(const ContactProblem& problem) {
+  const int n = problem.n_contacts;
+  patch_of_.head(n).setConstant(-1);
+  for (std::size_t j = 0; j < problem.patches.size(); ++j) {
+    const CompliantPatch& patch = problem.patches[j];
+    patch_of_.segment(patch.first_contact, patch.n_contacts).setConstant(static_cast<int>(j));
+  }
+  double trace_sum = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Matrix3d block = problem.diagonal_block(k);
+    diag_blocks_.middleCols<3>(3 * k) = block;
+    const double trace = block.trace();
+    eta_[k] = trace > 0.0 ? 3.0 / trace : 1.0;
+    trace_sum += trace;
+  }
+  mean_diagonal_ = (n > 0 && trace_sum > 0.0) ? trace_sum / (3.0 * n) : 1.0;
+}
+
+double ContactSolver::residual(const ContactProblem& problem,
+                               const Eigen::Ref<const Eigen::VectorXd>& p,
+                               const Eigen::Ref<const Eigen::VectorXd>& v) const {
+  double worst = 0.0;
+  for (int k = 0; k < problem.n_contacts; ++k) {
+    const double r = contact_residual(p.segment<3>(3 * k), v.segment<3>(3 * k),
+                                      problem.normal_bias[k], problem.friction[k], eta_[k]);
+    if (!(r <= worst))
+      worst = r; // propagates NaN
+  }
+  return worst;
+}
+
+double ContactSolver::complementarity_residual(const ContactProblem& problem,
+                                               const Eigen::Ref<const Eigen::VectorXd>& p,
+                                               const Eigen::Ref<const Eigen::VectorXd>& v) {
+  double worst = 0.0;
+  for (int k = 0; k < problem.n_contacts; ++k) {
+    const double trace = problem.diagonal_block(k).trace();
+    const double eta = trace > 0.0 ? 3.0 / trace : 1.0;
+    const double r = contact_residual(p.segment<3>(3 * k), v.segment<3>(3 * k),
+                                      problem.normal_bias[k], problem.friction[k], eta);
+    if (!(r <= worst))
+      worst = r;
+  }
+  return worst;
+}
+
+void ContactSolver::compute_velocity(const ContactProblem& problem,
+                                     const Eigen::Ref<const Eigen::VectorXd>& p) {
+  const int n3 = 3 * problem.n_contacts;
+  problem.apply_delassus(p, rigid_work_, velocity_);
+  velocity_.head(n3) += problem.free_velocity.head(n3);
+}
+
+SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
+                                  Eigen::Ref<Eigen::VectorXd> impulses) {
+  settings.validate();
+  const int n = problem.n_contacts;
+  if (n > max_contacts_ || problem.rigid_rank() != rigid_rank_ || impulses.size() < 3 * n) {
+    std::ostringstream msg;
+    msg << "ContactSolver::solve: problem has n_contacts = " << n << ", rigid rank "
+        << problem.rigid_rank() << ", impulses size " << impulses.size()
+        << "; workspace sized for max_contacts = " << max_contacts_ << ", rigid rank "
+        << rigid_rank_ << " (call resize)";
+    throw std::invalid_argument(msg.str());
+  }
+  problem.validate();
+  SolverResult result;
+  history_size_ = 0;
+  if (n == 0) {
+    result.status = SolverStatus::converged;
+    return result;
+  }
+  prepare(problem);
+  if (!settings.warm_start)
+    impulses.head(3 * n).setZero();
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d p = impulses.segment<3>(3 * k);
+    impulses.segment<3>(3 * k) =
+        p.allFinite() ? project_onto_cone(p, problem.friction[k]) : Eigen::Vector3d::Zero();
+  }
+  if (settings.solver == ContactSolverType::gauss_seidel)
+    result = solve_gauss_seidel(problem, settings, impulses);
+  else
+    result = solve_admm(problem, settings, impulses);
+  if (!impulses.head(3 * n).allFinite() || !std::isfinite(result.residual)) {
+    result.status = SolverStatus::non_finite;
+    impulses.head(3 * n).setZero();
+  }
+  return result;
+}
+
+} // namespace plantar::coupling

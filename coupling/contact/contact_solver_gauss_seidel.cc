@@ -1,0 +1,99 @@
+// Nonsmooth Gauss-Seidel part of ContactSolver (see contact_solver.h).
+#include "coupling/contact/contact_solver.h"
+#include "coupling/contact/local_contact_solve.h"
+
+#include "coupling/contact/coulomb_cone.h"
+
+namespace plantar::coupling {
+
+SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
+                                               const SolverSettings& settings,
+                                               Eigen::Ref<Eigen::VectorXd> p) {
+  const int n = problem.n_contacts;
+  const int n3 = 3 * n;
+  const int m = rigid_rank_;
+  auto g = problem.rigid_factor.topRows(n3);
+  SolverResult result;
+  // y = G^T p and the patch velocities, kept current through the sweep.
+  rigid_work_.head(m).noalias() = g.transpose() * p.head(n3);
+  patch_velocity_.head(n3).setZero();
+  for (const CompliantPatch& patch : problem.patches) {
+    const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+    patch_velocity_.segment(first, size).noalias() =
+        patch.compliance_over_dt * p.segment(first, size);
+  }
+  for (int sweep = 1; sweep <= settings.max_iterations; ++sweep) {
+    // Every 50 sweeps, recompute y and the patch velocities from scratch to
+    // limit the round-off drift of the incremental updates.
+    if (sweep % 50 == 0) {
+      rigid_work_.head(m).noalias() = g.transpose() * p.head(n3);
+      for (const CompliantPatch& patch : problem.patches) {
+        const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+        patch_velocity_.segment(first, size).noalias() =
+            patch.compliance_over_dt * p.segment(first, size);
+      }
+    }
+    result.n_nonunique_local = 0;
+    result.n_failed_local = 0;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Matrix3d block = diag_blocks_.middleCols<3>(3 * k);
+      const Eigen::Vector3d p_old = p.segment<3>(3 * k);
+      Eigen::Vector3d v_k =
+          problem.free_velocity.segment<3>(3 * k) + patch_velocity_.segment<3>(3 * k);
+      v_k.noalias() += g.middleRows<3>(3 * k) * rigid_work_.head(m);
+      const Eigen::Vector3d q = v_k - block * p_old;
+      const LocalSolution local =
+          solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old);
+      Eigen::Vector3d p_new;
+      if (local.n_solutions > 0) {
+        p_new = local.impulse;
+        if (local.n_solutions > 1)
+          ++result.n_nonunique_local;
+      } else {
+        // No exact local solution (singular block): projected step.
+        ++result.n_failed_local;
+        p_new = project_onto_cone(
+            p_old - eta_[k] * de_saxce_velocity(v_k, problem.normal_bias[k], problem.friction[k]),
+            problem.friction[k]);
+      }
+      const Eigen::Vector3d delta = p_new - p_old;
+      if (delta.squaredNorm() == 0.0)
+        continue;
+      p.segment<3>(3 * k) = p_new;
+      rigid_work_.head(m).noalias() += g.middleRows<3>(3 * k).transpose() * delta;
+      const int j = patch_of_[k];
+      if (j >= 0) {
+        const CompliantPatch& patch = problem.patches[j];
+        const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+        const int local_col = 3 * (k - patch.first_contact);
+        patch_velocity_.segment(first, size).noalias() +=
+            patch.compliance_over_dt.middleCols<3>(local_col) * delta;
+      }
+    }
+    // Velocities of the current impulses (from the incremental state).
+    velocity_.head(n3).noalias() = g * rigid_work_.head(m);
+    velocity_.head(n3) += problem.free_velocity.head(n3) + patch_velocity_.head(n3);
+    result.iterations = sweep;
+    result.residual = residual(problem, p, velocity_);
+    record(sweep, result.residual);
+    if (!std::isfinite(result.residual)) {
+      result.status = SolverStatus::non_finite;
+      return result;
+    }
+    if (result.residual <= settings.tolerance) {
+      result.status = SolverStatus::converged;
+      break;
+    }
+  }
+  // Final residual from a fresh product (no incremental round-off).
+  compute_velocity(problem, p);
+  result.residual = residual(problem, p, velocity_);
+  if (!std::isfinite(result.residual))
+    result.status = SolverStatus::non_finite;
+  else
+    result.status = result.residual <= settings.tolerance ? SolverStatus::converged
+                                                          : SolverStatus::max_iterations;
+  return result;
+}
+
+} // namespace plantar::coupling

@@ -1,0 +1,169 @@
+#include "coupling/contact/local_contact_solve.h"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <limits>
+
+namespace plantar::coupling {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct GridTable {
+  double cos[64], sin[64];
+  GridTable() {
+    for (int i = 0; i < 64; ++i) {
+      cos[i] = std::cos(2.0 * kPi * i / 64);
+      sin[i] = std::sin(2.0 * kPi * i / 64);
+    }
+  }
+};
+
+// Quantities of the sliding candidate at angle phi.
+// den = A_nn + mu A_nt d;  p_n = -(q_n + b)/den;  den v_t = den q_t - (q_n + b)(A_tn + mu A_tt d).
+double slide_function_cs(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double qn_b, double mu,
+                         double c, double s) {
+  const Eigen::Vector2d d(c, s);
+  const double den = a(0, 0) + mu * (a(0, 1) * d[0] + a(0, 2) * d[1]);
+  const Eigen::Vector2d a_tn(a(1, 0), a(2, 0));
+  const Eigen::Vector2d scaled_vt =
+      den * q.tail<2>() - qn_b * (a_tn + mu * a.bottomRightCorner<2, 2>() * d);
+  return d[0] * scaled_vt[1] - d[1] * scaled_vt[0];
+}
+
+double slide_function(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double qn_b, double mu,
+                      double phi) {
+  return slide_function_cs(a, q, qn_b, mu, std::cos(phi), std::sin(phi));
+}
+
+bool same_solution(const Eigen::Vector3d& x, const Eigen::Vector3d& y, double scale) {
+  return (x - y).norm() <= 1e-9 * scale;
+}
+
+} // namespace
+
+LocalSolution solve_local_contact(const Eigen::Matrix3d& a, const Eigen::Vector3d& q,
+                                  double normal_bias, double mu, const Eigen::Vector3d& previous) {
+  LocalSolution out;
+  const double qn_b = q[0] + normal_bias;
+  const double a_scale = a.diagonal().cwiseAbs().maxCoeff();
+  const double q_scale = std::max(std::abs(qn_b), q.tail<2>().norm());
+  // Tolerances on validity checks, relative to the data.
+  const double tol_velocity = 1e-12 * q_scale;
+  const double tol_rel = 1e-10;
+
+  Eigen::Vector3d candidates[6];
+  LocalSolution::Kind kinds[6];
+  int n_candidates = 0;
+  auto add = [&](const Eigen::Vector3d& p, LocalSolution::Kind kind) {
+    const double p_scale = std::max(p.norm(), q_scale / std::max(a_scale, 1e-300));
+    for (int i = 0; i < n_candidates; ++i)
+      if (same_solution(candidates[i], p, p_scale))
+        return;
+    candidates[n_candidates] = p;
+    kinds[n_candidates] = kind;
+    ++n_candidates;
+  };
+
+  // Separation.
+  if (qn_b >= -tol_velocity)
+    add(Eigen::Vector3d::Zero(), LocalSolution::Kind::separation);
+
+  // Sticking (mu > 0; mu = 0 is handled as frictionless sliding below).
+  if (mu > 0.0) {
+    const double det = a.determinant();
+    if (std::abs(det) > 1e-13 * a_scale * a_scale * a_scale && a_scale > 0.0) {
+      Eigen::Vector3d rhs = q;
+      rhs[0] += normal_bias;
+      const Eigen::Vector3d p = -a.inverse() * rhs;
+      const double t = std::hypot(p[1], p[2]);
+      if (p[0] > 0.0 && t <= mu * p[0] * (1.0 + tol_rel))
+        add(p, LocalSolution::Kind::sticking);
+    }
+  }
+
+  // Sliding.
+  if (mu == 0.0) {
+    if (a(0, 0) > 0.0) {
+      const double pn = -qn_b / a(0, 0);
+      if (pn > 0.0)
+        add(Eigen::Vector3d(pn, 0.0, 0.0), LocalSolution::Kind::sliding);
+    }
+  } else {
+    // Scan a 64-point grid (trigonometric values from a table), refine each
+    // sign change by the Illinois variant of regula falsi.
+    constexpr int n_grid = 64;
+    static const GridTable table;
+    const double step = 2.0 * kPi / n_grid;
+    double f_lo = slide_function_cs(a, q, qn_b, mu, table.cos[0], table.sin[0]);
+    for (int i = 1; i <= n_grid; ++i) {
+      const double phi_lo = (i - 1) * step, phi_hi = i * step;
+      const double f_hi =
+          slide_function_cs(a, q, qn_b, mu, table.cos[i % n_grid], table.sin[i % n_grid]);
+      double root = std::numeric_limits<double>::quiet_NaN();
+      if (f_lo == 0.0) {
+        root = phi_lo;
+      } else if ((f_lo < 0.0) != (f_hi < 0.0) && f_hi != 0.0) {
+        double lo = phi_lo, hi = phi_hi, flo = f_lo, fhi = f_hi;
+        int side = 0;
+        for (int it = 0; it < 100 && hi - lo > 1e-14; ++it) {
+          const double mid = (lo * fhi - hi * flo) / (fhi - flo);
+          const double fmid = slide_function(a, q, qn_b, mu, mid);
+          if (fmid == 0.0) {
+            lo = hi = mid;
+            break;
+          }
+          if ((fmid < 0.0) == (flo < 0.0)) {
+            lo = mid;
+            flo = fmid;
+            if (side == -1)
+              fhi *= 0.5;
+            side = -1;
+          } else {
+            hi = mid;
+            fhi = fmid;
+            if (side == 1)
+              flo *= 0.5;
+            side = 1;
+          }
+        }
+        root = 0.5 * (lo + hi);
+      }
+      if (std::isfinite(root)) {
+        const Eigen::Vector2d d(std::cos(root), std::sin(root));
+        const double den = a(0, 0) + mu * (a(0, 1) * d[0] + a(0, 2) * d[1]);
+        if (den != 0.0) {
+          const double pn = -qn_b / den;
+          if (pn > 0.0) {
+            const Eigen::Vector3d p(pn, mu * pn * d[0], mu * pn * d[1]);
+            const Eigen::Vector3d v = a * p + q;
+            const double along = v[1] * d[0] + v[2] * d[1];
+            // v_t must oppose the friction direction (alpha >= 0).
+            if (along <= tol_velocity)
+              add(p, LocalSolution::Kind::sliding);
+          }
+        }
+      }
+      f_lo = f_hi;
+    }
+  }
+
+  out.n_solutions = n_candidates;
+  if (n_candidates == 0)
+    return out;
+  int best = 0;
+  for (int i = 1; i < n_candidates; ++i) {
+    if (kinds[best] != kinds[i]) {
+      if (static_cast<int>(kinds[i]) < static_cast<int>(kinds[best]))
+        best = i;
+    } else if ((candidates[i] - previous).norm() < (candidates[best] - previous).norm()) {
+      best = i;
+    }
+  }
+  out.impulse = candidates[best];
+  out.kind = kinds[best];
+  return out;
+}
+
+} // namespace plantar::coupling

@@ -1,0 +1,69 @@
+#pragma once
+// Settings and result of a frictional contact solve (plain structs).
+
+#include <string>
+
+namespace plantar::coupling {
+
+enum class ContactSolverType {
+  gauss_seidel, ///< nonsmooth Gauss-Seidel, exact 3x3 local solves (baseline)
+  admm,         ///< ADMM with proximal term and adaptive rho (dense/coupled, ill-conditioned cases)
+};
+
+struct SolverSettings {
+  ContactSolverType solver = ContactSolverType::admm;
+  /// Stop when the natural-map residual (m/s, max over contacts) is <= this. Range (0, inf).
+  double tolerance = 1e-9;
+  /// Sweeps (Gauss-Seidel) or iterations (ADMM). Range [1, inf).
+  int max_iterations = 500;
+  /// Start from the impulses passed in (projected onto the cones) instead of zero.
+  bool warm_start = true;
+  /// ADMM: initial rho = rho_scale * mean diagonal of W. Range (0, inf).
+  double rho_scale = 1.0;
+  /// ADMM: proximal weight eta = proximal_scale * mean diagonal of W. Range [0, inf).
+  double proximal_scale = 1e-6;
+  /// ADMM: rho is reconsidered every this many iterations (needs a refactorisation). Range [1,
+  /// inf).
+  int rho_update_interval = 8;
+  /// ADMM: rho changes when the primal and dual residuals differ by more than this ratio. Range (1,
+  /// inf).
+  double rho_update_ratio = 5.0;
+  /// ADMM: at most this many factorisations per solve. Range [1, inf).
+  int max_factorizations = 60;
+  /// ADMM: start from the previous solve's final rho (lets the patch factorisation be reused).
+  bool warm_rho = true;
+
+  /// Throws std::invalid_argument naming the field, its value and the allowed range.
+  void validate() const;
+};
+
+enum class SolverStatus {
+  converged,      ///< residual <= tolerance
+  max_iterations, ///< stopped at max_iterations with residual > tolerance
+  non_finite,     ///< NaN or Inf appeared; impulses are reset to zero
+};
+
+struct SolverResult {
+  SolverStatus status = SolverStatus::max_iterations;
+  int iterations = 0;
+  /// Natural-map (De Saxce) complementarity residual, max over contacts, m/s.
+  double residual = 0.0;
+  /// Gauss-Seidel: contacts whose last local problem had several solutions
+  /// (indeterminate, e.g. Painleve) or none (then a projection step was used).
+  int n_nonunique_local = 0;
+  int n_failed_local = 0;
+  /// ADMM: factorisations done and final rho (m/(N s^2)).
+  int n_factorizations = 0;
+  double rho = 0.0;
+  bool converged() const { return status == SolverStatus::converged; }
+};
+
+const char* to_string(SolverStatus status);
+const char* to_string(ContactSolverType type);
+
+/// Throws std::runtime_error with solver, status, iterations, residual and
+/// tolerance unless @p result converged. @p context names the caller (e.g. "step 120").
+void throw_if_not_converged(const SolverResult& result, const SolverSettings& settings,
+                            const std::string& context);
+
+} // namespace plantar::coupling

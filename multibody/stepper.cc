@@ -1,0 +1,320 @@
+#include "multibody/stepper.h"
+
+#include "coupling/contact/compliance_terms.h"
+#include "multibody/configuration.h"
+#include "multibody/crba.h"
+#include "multibody/jacobian.h"
+#include "multibody/kinematics.h"
+#include "multibody/rnea.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace plantar::multibody {
+
+namespace {
+/// Rows of the ground contact frame in world coordinates: n = +z, t1 = +x, t2 = +y.
+Eigen::Matrix3d ground_frame_transpose() {
+  Eigen::Matrix3d rt;
+  rt << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+  return rt;
+}
+} // namespace
+
+void StepperParameters::validate() const {
+  std::ostringstream msg;
+  if (!(time_step > 0.0 && time_step <= 0.1)) {
+    msg << "StepperParameters: time_step = " << time_step << " s, allowed (0, 0.1]";
+  } else if (max_contacts < 0 || max_contacts > 100000) {
+    msg << "StepperParameters: max_contacts = " << max_contacts << ", allowed [0, 100000]";
+  }
+  if (!msg.str().empty()) {
+    throw std::invalid_argument(msg.str());
+  }
+  normal_bias.validate();
+  solver.validate();
+}
+
+Stepper::Stepper(const Model& model, const StepperParameters& parameters)
+    : model_(model), parameters_(parameters), data_(model), gains_(PdGains::Zero(model)) {
+  parameters_.validate();
+  resize_workspaces();
+}
+
+void Stepper::resize_workspaces() {
+  const int nv = model_.nv;
+  const int max = parameters_.max_contacts;
+  effective_mass_.setZero(nv, nv);
+  llt_ = Eigen::LLT<Eigen::MatrixXd>(nv);
+  rhs_.setZero(nv);
+  v_free_.setZero(nv);
+  dv_.setZero(nv);
+  bias_start_.setZero(nv);
+  v_mid_.setZero(nv);
+  point_jacobian_.setZero(3, nv);
+  contact_jacobian_.setZero(3 * max, nv);
+  gt_.setZero(nv, 3 * max);
+  impulses_.setZero(3 * max);
+  problem_.resize(max, nv);
+  solver_.resize(max, nv);
+  gap_.setZero(points_.size());
+  v_before_.setZero(points_.size());
+  active_points_.reserve(points_.size());
+}
+
+void Stepper::set_gains(const PdGains& gains) {
+  gains.validate(model_);
+  gains_ = gains;
+}
+
+int Stepper::add_contact_point(int body, const Eigen::Vector3d& position, double friction) {
+  if (body < 0 || body >= model_.n_bodies) {
+    throw std::invalid_argument("Stepper::add_contact_point: body " + std::to_string(body) +
+                                ", allowed [0, " + std::to_string(model_.n_bodies) + ")");
+  }
+  if (!(friction >= 0.0) || !std::isfinite(friction)) {
+    throw std::invalid_argument("Stepper::add_contact_point: friction " + std::to_string(friction) +
+                                ", allowed [0, inf)");
+  }
+  if (static_cast<int>(points_.size()) + 1 > parameters_.max_contacts) {
+    throw std::invalid_argument("Stepper::add_contact_point: more than max_contacts = " +
+                                std::to_string(parameters_.max_contacts) + " contact points");
+  }
+  points_.push_back(ContactPoint{body, position, friction});
+  point_impulse_.push_back(Eigen::Vector3d::Zero());
+  resize_workspaces();
+  return static_cast<int>(points_.size()) - n_patch_points_ - 1;
+}
+
+int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
+                                 const Eigen::MatrixXd& compliance, double friction) {
+  const int n = static_cast<int>(nodes.cols());
+  if (body < 0 || body >= model_.n_bodies || n == 0 || compliance.rows() != 3 * n ||
+      compliance.cols() != 3 * n || !compliance.allFinite() || !(friction >= 0.0)) {
+    std::ostringstream msg;
+    msg << "Stepper::add_compliant_patch: body " << body << " (allowed [0, " << model_.n_bodies
+        << ")), " << n << " nodes (allowed >= 1), compliance " << compliance.rows() << "x"
+        << compliance.cols() << " (expected " << 3 * n << " square, finite), friction " << friction
+        << " (allowed [0, inf))";
+    throw std::invalid_argument(msg.str());
+  }
+  if ((compliance - compliance.transpose()).cwiseAbs().maxCoeff() >
+      1e-9 * compliance.cwiseAbs().maxCoeff()) {
+    throw std::invalid_argument("Stepper::add_compliant_patch: compliance is not symmetric");
+  }
+  if (static_cast<int>(points_.size()) + n > parameters_.max_contacts) {
+    throw std::invalid_argument(
+        "Stepper::add_compliant_patch: " + std::to_string(n) +
+        " more nodes exceed max_contacts = " + std::to_string(parameters_.max_contacts));
+  }
+  // Patch nodes go before the free points, after the previous patches' nodes.
+  std::vector<ContactPoint> nodes_as_points;
+  for (int k = 0; k < n; ++k) {
+    nodes_as_points.push_back(ContactPoint{body, nodes.col(k), friction});
+  }
+  points_.insert(points_.begin() + n_patch_points_, nodes_as_points.begin(), nodes_as_points.end());
+  // first_point of later patches cannot change: patches are appended in order.
+  point_impulse_.insert(point_impulse_.begin() + n_patch_points_, n, Eigen::Vector3d::Zero());
+  Patch patch{body,
+              nodes,
+              compliance,
+              friction,
+              n_patch_points_,
+              Eigen::VectorXd::Zero(3 * n),
+              Eigen::MatrixXd::Zero(3 * n, 3 * n)};
+  n_patch_points_ += n;
+  patches_.push_back(std::move(patch));
+  problem_.patches.push_back(coupling::CompliantPatch{});
+  resize_workspaces();
+  return static_cast<int>(patches_.size()) - 1;
+}
+
+void Stepper::add_point_row(int point, int row, double extra_gap) {
+  const ContactPoint& c = points_[point];
+  point_jacobian(model_, data_, c.body, c.position, point_jacobian_);
+  contact_jacobian_.row(3 * row) = point_jacobian_.row(2);
+  contact_jacobian_.row(3 * row + 1) = point_jacobian_.row(0);
+  contact_jacobian_.row(3 * row + 2) = point_jacobian_.row(1);
+  gap_[point] = data_.oMi[c.body].act_point(c.position).z() + extra_gap;
+}
+
+StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
+                         const Eigen::Ref<const Eigen::VectorXd>& tau,
+                         const Eigen::Ref<const Eigen::VectorXd>& q_ref,
+                         const Eigen::Ref<const Eigen::VectorXd>& v_ref) {
+  check_size(q.size(), model_.nq, "Stepper::step: q");
+  check_size(v.size(), model_.nv, "Stepper::step: v");
+  check_size(tau.size(), model_.nv, "Stepper::step: tau");
+  check_size(q_ref.size(), model_.nq, "Stepper::step: q_ref");
+  check_size(v_ref.size(), model_.nv, "Stepper::step: v_ref");
+  const double dt = parameters_.time_step;
+  StepReport report;
+
+  // Free motion with linear-implicit springs: M_eff v_free = r.
+  crba(model_, data_, q);
+  nonlinear_effects(model_, data_, q, v); // also fills oMi, v for the contacts
+  effective_mass_ = data_.mass_matrix;
+  rhs_.noalias() = data_.mass_matrix * v;
+  rhs_ += dt * (tau - data_.bias);
+  for (int i = 1; i < model_.n_bodies; ++i) {
+    if (model_.joint_type[i] == JointType::FreeFlyer) {
+      continue;
+    }
+    const int iq = model_.idx_q[i];
+    const int iv = model_.idx_v[i];
+    const double kp = gains_.stiffness[iv];
+    const double kd = gains_.damping[iv];
+    const double ks = model_.passive_stiffness[iv];
+    const double ds = model_.passive_damping[iv];
+    const double spring = kp * (q_ref[iq] - q[iq]) + ks * (model_.passive_rest[iv] - q[iq]);
+    if (parameters_.implicit_gains) {
+      effective_mass_(iv, iv) += dt * (kd + ds) + dt * dt * (kp + ks);
+      rhs_[iv] += dt * (spring + kd * v_ref[iv]);
+    } else {
+      rhs_[iv] += dt * (spring + kd * (v_ref[iv] - v[iv]) - ds * v[iv]);
+    }
+  }
+  llt_.compute(effective_mass_);
+  if (llt_.info() != Eigen::Success) {
+    throw std::runtime_error("Stepper::step: M + dt D + dt^2 K is not positive definite "
+                             "(check the model's inertias and the gains)");
+  }
+  v_free_ = rhs_;
+  llt_.solveInPlace(v_free_);
+  if (parameters_.midpoint_bias) {
+    // Second pass: b evaluated at v_mid = (v + v_free) / 2 instead of v.
+    bias_start_ = data_.bias;
+    v_mid_ = 0.5 * (v + v_free_);
+    nonlinear_effects(model_, data_, q, v_mid_);
+    rhs_ += dt * (bias_start_ - data_.bias);
+    v_free_ = rhs_;
+    llt_.solveInPlace(v_free_);
+  }
+
+  // Contact candidates: patches first (all nodes when any is active), then free points.
+  int n = 0;
+  active_points_.clear();
+  const Eigen::Matrix3d rct = ground_frame_transpose();
+  for (std::size_t j = 0; j < patches_.size(); ++j) {
+    Patch& patch = patches_[j];
+    const int n_nodes = static_cast<int>(patch.nodes.cols());
+    bool any_active = false;
+    for (int k = 0; k < n_nodes; ++k) {
+      const int point = patch.first_point + k;
+      add_point_row(point, n + k, patch.displacement[3 * k]);
+      v_before_[point] = contact_jacobian_.row(3 * (n + k)).dot(v);
+      const double v_free_n = contact_jacobian_.row(3 * (n + k)).dot(v_free_);
+      any_active = any_active || gap_[point] + dt * std::min(v_free_n, 0.0) <= 0.0;
+    }
+    coupling::CompliantPatch& target = problem_.patches[j];
+    if (!any_active) {
+      if (target.compliance_over_dt.size() != 0) {
+        target.compliance_over_dt.swap(patch.parked);
+      }
+      target.first_contact = n;
+      target.n_contacts = 0;
+      patch.displacement.setZero(); // a massless sole relaxes when lifted
+      continue;
+    }
+    if (target.compliance_over_dt.size() == 0) {
+      target.compliance_over_dt.swap(patch.parked);
+    }
+    target.first_contact = n;
+    target.n_contacts = n_nodes;
+    const Eigen::Matrix3d a = rct * data_.oMi[patch.body].rotation;
+    for (int r = 0; r < n_nodes; ++r) {
+      for (int c = 0; c < n_nodes; ++c) {
+        target.compliance_over_dt.block<3, 3>(3 * r, 3 * c).noalias() =
+            a * patch.compliance.block<3, 3>(3 * r, 3 * c) * a.transpose() / (dt * dt);
+      }
+    }
+    for (int k = 0; k < n_nodes; ++k) {
+      active_points_.push_back(patch.first_point + k);
+    }
+    n += n_nodes;
+  }
+  for (int point = n_patch_points_; point < static_cast<int>(points_.size()); ++point) {
+    add_point_row(point, n, 0.0);
+    v_before_[point] = contact_jacobian_.row(3 * n).dot(v);
+    const double v_free_n = contact_jacobian_.row(3 * n).dot(v_free_);
+    if (gap_[point] + dt * std::min(v_free_n, 0.0) <= 0.0) {
+      active_points_.push_back(point);
+      ++n;
+    }
+  }
+  report.n_contacts = n;
+  problem_.n_contacts = n;
+
+  if (n > 0) {
+    // G = J_c L^-T, v_free,c, b, mu, warm start.
+    auto gt = gt_.leftCols(3 * n);
+    gt = contact_jacobian_.topRows(3 * n).transpose();
+    llt_.matrixL().solveInPlace(gt);
+    problem_.rigid_factor.topRows(3 * n) = gt.transpose();
+    problem_.free_velocity.head(3 * n).noalias() = contact_jacobian_.topRows(3 * n) * v_free_;
+    for (int k = 0; k < n; ++k) {
+      const int point = active_points_[k];
+      const double gap = gap_[point];
+      // An impact with restitution follows Newton's law alone (Moreau-Jean); otherwise a
+      // contact activated before touching may close its gap within the step.
+      const coupling::NormalBiasParameters& nb = parameters_.normal_bias;
+      const double v_n = v_before_[point];
+      const bool bouncing =
+          nb.restitution > 0.0 && v_n < 0.0 && std::abs(v_n) >= nb.restitution_threshold;
+      problem_.normal_bias[k] =
+          coupling::normal_bias(gap, v_n, dt, nb) + (!bouncing && gap > 0.0 ? gap / dt : 0.0);
+      problem_.friction[k] = points_[point].friction;
+      impulses_.segment<3>(3 * k) = point_impulse_[point];
+    }
+    for (std::size_t j = 0; j < patches_.size(); ++j) {
+      if (problem_.patches[j].n_contacts > 0) {
+        coupling::add_deformation_rate_term(problem_.patches[j], patches_[j].displacement, dt,
+                                            problem_);
+      }
+    }
+    report.solver = solver_.solve(problem_, parameters_.solver, impulses_);
+    if (report.solver.status == coupling::SolverStatus::non_finite) {
+      throw std::runtime_error("Stepper::step: the contact solver produced non-finite impulses "
+                               "with " +
+                               std::to_string(n) + " contacts");
+    }
+    if (parameters_.throw_if_not_converged) {
+      coupling::throw_if_not_converged(report.solver, parameters_.solver, "Stepper::step");
+    }
+    // v+ = v_free + L^-T (G^T p).
+    dv_.noalias() = gt * impulses_.head(3 * n);
+    llt_.matrixU().solveInPlace(dv_);
+    v = v_free_ + dv_;
+  } else {
+    report.solver.status = coupling::SolverStatus::converged;
+    v = v_free_;
+  }
+  for (auto& impulse : point_impulse_) {
+    impulse.setZero();
+  }
+  for (int k = 0; k < n; ++k) {
+    point_impulse_[active_points_[k]] = impulses_.segment<3>(3 * k);
+  }
+  for (std::size_t j = 0; j < patches_.size(); ++j) {
+    if (problem_.patches[j].n_contacts > 0) {
+      coupling::patch_displacement(problem_.patches[j], impulses_, dt, patches_[j].displacement);
+    }
+  }
+  if (!v.allFinite()) {
+    throw std::runtime_error(
+        "Stepper::step: non-finite velocity after the step (dt = " + std::to_string(dt) + " s)");
+  }
+  integrate(model_, q, v, dt, q);
+  return report;
+}
+
+Eigen::Vector3d Stepper::total_contact_force() const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& p : point_impulse_) {
+    sum += Eigen::Vector3d(p[1], p[2], p[0]);
+  }
+  return sum / parameters_.time_step;
+}
+
+} // namespace plantar::multibody

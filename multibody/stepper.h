@@ -1,0 +1,159 @@
+#pragma once
+// The velocity-level time stepper (David et al. 2008, eq. 4: explicit Adams order 1, i.e. a
+// Moreau-Jean step) with linear-implicit joint springs, and frictional contact against the
+// ground plane z = 0 solved by coupling/contact.
+//
+// One step of length dt, from (q, v) to (q+, v+):
+//   K = diag(k_pd + k_passive), D = diag(d_pd + d_passive)       (1-DoF joints, 0 on the base)
+//   M_eff = M(q) + dt D + dt^2 K                                  (implicit in q+ ~ q + dt v+)
+//   r     = M v + dt (tau - b(q, v) + k_pd (q_ref - q) + k_passive (q_rest - q) + d_pd v_ref)
+//   M_eff v_free = r,  M_eff = L L^T
+//   v+ = v_free + M_eff^-1 J^T p,   p the contact impulses (N s) of the contact problem
+//   q+ = q (+) dt v+                                              (configuration.h)
+// With implicit_gains = false the springs are explicit instead (M_eff = M, forces at q, v):
+// kept to show that stiff gains diverge that way.
+//
+// Contact problem (coupling/contact/contact_problem.h), contact frame rows (n = +z, t1 = +x,
+// t2 = +y): J_c the point Jacobians in that order, G = J_c L^-T (so G G^T = J_c M_eff^-1 J_c^T),
+// v_free,c = J_c v_free, b from coupling::normal_bias (restitution e v_n^-, position
+// correction) plus, unless the contact bounces (e > 0 and |v_n^-| >= restitution_threshold),
+// gap/dt for a contact activated before touching (gap > 0), so that it lands on the plane
+// instead of stopping above it.
+// A point is active when its gap g (z of the point) satisfies g + dt min(v_free,n, 0) <= 0.
+// A compliant patch (a condensed sole, nodes fixed to a body, compliance C in the body frame)
+// enters as a whole when any of its nodes is active; its block is A C A^T / dt^2 per node pair
+// with A = R_c^T R_body (contact frame <- body frame), plus the deformation-rate term of
+// eq. 12 (compliance_terms.h); node gaps include the previous step's deformation.
+//
+// After construction and the add_* calls, step() allocates nothing (tested with Eigen's
+// malloc guard, except inside Eigen's blocked Cholesky of a patch block larger than about
+// 100 contacts, see contact_solver.h).
+
+#include "coupling/contact/contact_problem.h"
+#include "coupling/contact/contact_solver.h"
+#include "coupling/contact/position_correction.h"
+#include "coupling/contact/solver_settings.h"
+#include "multibody/data.h"
+#include "multibody/model.h"
+#include "multibody/pd_gains.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <vector>
+
+namespace plantar::multibody {
+
+struct StepperParameters {
+  double time_step = 1e-3; ///< dt, s, (0, 0.1]; the paper's walk uses 1 to 5 ms
+  int max_contacts = 64;   ///< size of the contact problem, [0, 100000]
+  /// Linear-implicit joint PD and passive springs (default). False: explicit (comparison only).
+  bool implicit_gains = true;
+  /// Evaluate the bias forces C(q, v) v + G(q) at v_mid = (v + v_free) / 2 (one more RNEA
+  /// and triangular solve) instead of at v as in eq. 4. Second order in the gyroscopic and
+  /// transport terms: removes most of the first-order energy drift of fast free rotations.
+  bool midpoint_bias = false;
+  coupling::NormalBiasParameters normal_bias; ///< restitution e, position correction
+  coupling::SolverSettings solver;            ///< contact solver (ADMM by default)
+  /// Throw std::runtime_error when the contact solver does not converge (default: only count
+  /// it in StepReport; non-finite results always throw).
+  bool throw_if_not_converged = false;
+  /// Throws std::invalid_argument naming the field, value and range.
+  void validate() const;
+};
+
+/// What happened in one step.
+struct StepReport {
+  int n_contacts = 0; ///< active contacts (patch nodes included)
+  coupling::SolverResult solver;
+};
+
+class Stepper {
+public:
+  /// @p model must outlive the stepper.
+  Stepper(const Model& model, const StepperParameters& parameters);
+
+  void set_gains(const PdGains& gains);
+  const PdGains& gains() const { return gains_; }
+
+  /// A candidate contact point fixed to @p body, @p position in body coordinates (m), friction
+  /// coefficient mu >= 0. Returns its index. Not in the time loop (allocates).
+  int add_contact_point(int body, const Eigen::Vector3d& position, double friction);
+
+  /// A compliant patch: @p nodes (3 x n, body coordinates, m) fixed to @p body, with compliance
+  /// @p compliance (3n x 3n, m/N, body frame, node-major [x y z] blocks, symmetric positive
+  /// semi-definite), friction mu. Returns its index. Not in the time loop (allocates).
+  int add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
+                          const Eigen::MatrixXd& compliance, double friction);
+
+  /// Advances (q, v) by one step in place. @param q size nq, @param v size nv,
+  /// @param tau feed-forward joint forces (nv; base entries are external base wrenches in the
+  /// base frame), @param q_ref (nq) and @param v_ref (nv) the PD references.
+  /// Throws std::runtime_error on a non-positive-definite M_eff or a non-finite result.
+  StepReport step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
+                  const Eigen::Ref<const Eigen::VectorXd>& tau,
+                  const Eigen::Ref<const Eigen::VectorXd>& q_ref,
+                  const Eigen::Ref<const Eigen::VectorXd>& v_ref);
+
+  /// Data of the last step's start configuration (M, bias, placements).
+  const Data& data() const { return data_; }
+  const coupling::ContactProblem& problem() const { return problem_; }
+  /// Impulse (N s, contact frame [n = z, t1 = x, t2 = y]) of the last step on contact point
+  /// @p point (index returned by add_contact_point).
+  const Eigen::Vector3d& point_impulse(int point) const {
+    return point_impulse_[n_patch_points_ + point];
+  }
+  /// Same for node @p node of patch @p patch.
+  const Eigen::Vector3d& node_impulse(int patch, int node) const {
+    return point_impulse_[patches_[patch].first_point + node];
+  }
+  /// Sum of the last step's contact forces on the robot (N, world): impulses / dt.
+  Eigen::Vector3d total_contact_force() const;
+  /// Node displacements of patch @p patch after the last step (3 n, contact frame, m).
+  const Eigen::VectorXd& patch_displacement(int patch) const {
+    return patches_[patch].displacement;
+  }
+  double time_step() const { return parameters_.time_step; }
+
+private:
+  struct ContactPoint {
+    int body;
+    Eigen::Vector3d position;
+    double friction;
+  };
+  struct Patch {
+    int body;
+    Eigen::Matrix3Xd nodes;
+    Eigen::MatrixXd compliance; // body frame
+    double friction;
+    int first_point;              // index of its first node in points_
+    Eigen::VectorXd displacement; // U_c of the last step, contact frames
+    Eigen::MatrixXd parked;       // holds compliance_over_dt storage while inactive
+  };
+
+  void resize_workspaces();
+  void add_point_row(int point, int row, double extra_gap);
+
+  const Model& model_;
+  StepperParameters parameters_;
+  Data data_;
+  PdGains gains_;
+  std::vector<ContactPoint> points_; // patch nodes first, then free points
+  std::vector<Patch> patches_;
+  std::vector<Eigen::Vector3d> point_impulse_;
+  int n_patch_points_ = 0;
+
+  // Workspaces (sized once).
+  Eigen::MatrixXd effective_mass_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::VectorXd rhs_, v_free_, dv_, bias_start_, v_mid_;
+  Eigen::MatrixXd point_jacobian_;   // 3 x nv
+  Eigen::MatrixXd contact_jacobian_; // 3 max x nv
+  Eigen::MatrixXd gt_;               // nv x 3 max: L^-1 J^T
+  Eigen::VectorXd impulses_;         // 3 max
+  Eigen::VectorXd gap_, v_before_;   // per candidate point
+  std::vector<int> active_points_;   // capacity = number of points
+  coupling::ContactProblem problem_;
+  coupling::ContactSolver solver_;
+};
+
+} // namespace plantar::multibody

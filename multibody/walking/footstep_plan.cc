@@ -1,0 +1,178 @@
+#include "multibody/walking/footstep_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace plantar::walking {
+namespace {
+
+void require(bool ok, const char* name, double value, const char* range) {
+  if (!ok || !std::isfinite(value)) {
+    std::ostringstream msg;
+    msg << "WalkingParameters." << name << " = " << value << " is outside " << range;
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+} // namespace
+
+void check_walking_parameters(const WalkingParameters& p) {
+  require(p.period > 0.0 && p.period <= 0.1, "period", p.period, "(0, 0.1] s");
+  require(p.single_support_time >= 2 * p.period, "single_support_time", p.single_support_time,
+          "[2 period, inf) s");
+  require(p.double_support_time >= p.period, "double_support_time", p.double_support_time,
+          "[period, inf) s");
+  require(p.initial_double_support_time >= p.period, "initial_double_support_time",
+          p.initial_double_support_time, "[period, inf) s");
+  require(p.final_double_support_time >= p.period, "final_double_support_time",
+          p.final_double_support_time, "[period, inf) s");
+  require(p.standing_before >= 0.0, "standing_before", p.standing_before, "[0, inf) s");
+  require(p.standing_after >= 0.0, "standing_after", p.standing_after, "[0, inf) s");
+  require(p.step_height >= 0.0 && p.step_height <= 0.3, "step_height", p.step_height, "[0, 0.3] m");
+  require(p.max_step_length > 0.0, "max_step_length", p.max_step_length, "(0, inf) m");
+  Footstep right = p.initial_right, left = p.initial_left;
+  for (size_t i = 0; i < p.footsteps.size(); ++i) {
+    const Footstep& f = p.footsteps[i];
+    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.yaw))
+      throw std::invalid_argument("WalkingParameters.footsteps[" + std::to_string(i) +
+                                  "] is not finite");
+    Footstep& swing = (i % 2 == 0) == p.right_foot_first ? right : left;
+    const double length = std::hypot(f.x - swing.x, f.y - swing.y);
+    if (length > p.max_step_length) {
+      std::ostringstream msg;
+      msg << "WalkingParameters.footsteps[" << i << "]: step length " << length
+          << " m exceeds max_step_length = " << p.max_step_length << " m";
+      throw std::invalid_argument(msg.str());
+    }
+    swing = f;
+  }
+}
+
+Eigen::Vector3d quintic_transition(double tau) {
+  tau = std::clamp(tau, 0.0, 1.0);
+  const double t2 = tau * tau, t3 = t2 * tau;
+  return Eigen::Vector3d(t3 * (10.0 - 15.0 * tau + 6.0 * t2), 30.0 * t2 * (1.0 - tau) * (1.0 - tau),
+                         60.0 * tau * (1.0 - tau) * (1.0 - 2.0 * tau));
+}
+
+Eigen::Vector3d swing_height_profile(double tau) {
+  tau = std::clamp(tau, 0.0, 1.0);
+  const double a = tau * (1.0 - tau);
+  // h = 64 a^3, a' = 1 - 2 tau, a'' = -2.
+  const double da = 1.0 - 2.0 * tau;
+  return Eigen::Vector3d(64.0 * a * a * a, 192.0 * a * a * da,
+                         64.0 * (6.0 * a * da * da - 6.0 * a * a));
+}
+
+FootstepPlan make_footstep_plan(const WalkingParameters& p) {
+  check_walking_parameters(p);
+  const double T = p.period;
+  const int n_steps = static_cast<int>(p.footsteps.size());
+  const double walk_time =
+      p.initial_double_support_time + n_steps * (p.single_support_time + p.double_support_time) -
+      (n_steps > 0 ? p.double_support_time : 0.0) + p.final_double_support_time;
+  const double total = p.standing_before + walk_time + p.standing_after;
+  FootstepPlan plan;
+  plan.n_samples = static_cast<int>(std::floor(total / T + 1e-9)) + 1;
+  plan.walk_start = p.standing_before;
+  plan.walk_end = p.standing_before + walk_time;
+  const int n = plan.n_samples;
+  plan.time.resize(n);
+  plan.zmp_reference.resize(n, 2);
+  plan.right_sole.resize(n, 3);
+  plan.left_sole.resize(n, 3);
+  plan.right_yaw.resize(n);
+  plan.left_yaw.resize(n);
+  plan.phase.assign(n, SupportPhase::double_support);
+
+  // Event list: each step i: single support [ss_start_i, ss_start_i + Tss], then double
+  // support Tds (except after the last step, where the final double support follows).
+  std::vector<double> ss_start(n_steps);
+  double t = p.standing_before + p.initial_double_support_time;
+  for (int i = 0; i < n_steps; ++i) {
+    ss_start[i] = t;
+    t += p.single_support_time + p.double_support_time;
+  }
+  for (int k = 0; k < n; ++k) {
+    const double time = k * T;
+    plan.time(k) = time;
+    Footstep right = p.initial_right, left = p.initial_left;
+    Eigen::Vector3d right_pos(right.x, right.y, 0.0), left_pos(left.x, left.y, 0.0);
+    double right_yaw = right.yaw, left_yaw = left.yaw;
+    // Support sole centres before (from) and after (to) the current ZMP transfer.
+    Eigen::Vector2d zmp;
+    bool done = false;
+    Eigen::Vector2d previous_support =
+        0.5 * Eigen::Vector2d(right.x + left.x, right.y + left.y); // feet centre
+    for (int i = 0; i < n_steps && !done; ++i) {
+      const bool right_swings = (i % 2 == 0) == p.right_foot_first;
+      Footstep& swing = right_swings ? right : left;
+      const Footstep& support = right_swings ? left : right;
+      const Eigen::Vector2d support_centre(support.x, support.y);
+      const double transfer_start =
+          i == 0 ? p.standing_before : ss_start[i] - p.double_support_time;
+      if (time < ss_start[i]) { // double support before step i: ZMP moves to the support sole
+        const double s = (time - transfer_start) / (ss_start[i] - transfer_start);
+        zmp = previous_support + std::clamp(s, 0.0, 1.0) * (support_centre - previous_support);
+        done = true;
+        break;
+      }
+      const double ss_end = ss_start[i] + p.single_support_time;
+      const Footstep& target = p.footsteps[i];
+      if (time < ss_end) { // single support: swing foot in the air
+        const double tau = (time - ss_start[i]) / p.single_support_time;
+        const double s = quintic_transition(tau)(0);
+        const double h = p.step_height * swing_height_profile(tau)(0);
+        Eigen::Vector3d pos(swing.x + s * (target.x - swing.x), swing.y + s * (target.y - swing.y),
+                            h);
+        const double yaw = swing.yaw + s * std::remainder(target.yaw - swing.yaw, 2 * M_PI);
+        if (right_swings) {
+          right_pos = pos;
+          right_yaw = yaw;
+          left_pos = Eigen::Vector3d(left.x, left.y, 0.0);
+          left_yaw = left.yaw;
+          plan.phase[k] = SupportPhase::left_support;
+        } else {
+          left_pos = pos;
+          left_yaw = yaw;
+          right_pos = Eigen::Vector3d(right.x, right.y, 0.0);
+          right_yaw = right.yaw;
+          plan.phase[k] = SupportPhase::right_support;
+        }
+        zmp = support_centre;
+        done = true;
+        plan.right_sole.row(k) = right_pos.transpose();
+        plan.left_sole.row(k) = left_pos.transpose();
+        plan.right_yaw(k) = right_yaw;
+        plan.left_yaw(k) = left_yaw;
+        plan.zmp_reference.row(k) = zmp.transpose();
+        break;
+      }
+      swing = target; // landed
+      previous_support = support_centre;
+    }
+    if (done && plan.phase[k] != SupportPhase::double_support)
+      continue;
+    right_pos = Eigen::Vector3d(right.x, right.y, 0.0);
+    left_pos = Eigen::Vector3d(left.x, left.y, 0.0);
+    if (!done) { // after the last step: final double support back to the feet centre
+      const Eigen::Vector2d centre = 0.5 * Eigen::Vector2d(right.x + left.x, right.y + left.y);
+      const double start = n_steps > 0 ? ss_start[n_steps - 1] + p.single_support_time
+                                       : p.standing_before + p.initial_double_support_time;
+      const double s = (time - start) / p.final_double_support_time;
+      zmp = previous_support + std::clamp(s, 0.0, 1.0) * (centre - previous_support);
+      if (n_steps == 0)
+        zmp = centre;
+    }
+    plan.right_sole.row(k) = right_pos.transpose();
+    plan.left_sole.row(k) = left_pos.transpose();
+    plan.right_yaw(k) = right.yaw;
+    plan.left_yaw(k) = left.yaw;
+    plan.zmp_reference.row(k) = zmp.transpose();
+  }
+  return plan;
+}
+
+} // namespace plantar::walking

@@ -1,0 +1,80 @@
+// Footstep plan: timing, ZMP reference and swing-foot trajectories of a walk.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace plantar::walking {
+
+/// A foot placement on flat ground: centre of the sole's bottom face (r_sole / l_sole frame).
+struct Footstep {
+  double x = 0.0;   ///< [m]
+  double y = 0.0;   ///< [m]
+  double yaw = 0.0; ///< [rad], (-pi, pi]
+};
+
+/// The walk. Defaults: the paper's walk (David et al. 2008, sec. IV): six steps in six seconds,
+/// peak forward speed of the reference point (the waist) about 0.3 m/s, steps no longer than
+/// 0.45 m (max_step_length). Both paper figures cannot be met together with HRP-2's 0.8 s step
+/// cycle: a 0.45 m step pushes the waist to about 0.5 m/s. The default plan keeps 0.3 m/s
+/// (strides of 0.27 m, 0.135 m advance per step) and enforces 0.45 m as the upper bound; see
+/// docs/walking.md.
+/// Timing of the 6 s walk: initial double support 0.6 s (ZMP from the feet centre to the first
+/// support foot) + 6 single supports of 0.78 s with 5 double supports of 0.02 s between them
+/// (HRP-2's timings) + final double support 0.62 s (ZMP back to the feet centre) = 6.0 s;
+/// standing phases before and after (standing_before, standing_after) are added around it.
+struct WalkingParameters {
+  double period = 0.005;                    ///< pattern period T [s], (0, 0.1]
+  double single_support_time = 0.78;        ///< [s], >= 2 period
+  double double_support_time = 0.02;        ///< [s], >= period
+  double initial_double_support_time = 0.6; ///< [s], >= period
+  double final_double_support_time = 0.62;  ///< [s], >= period
+  double standing_before = 1.0;             ///< standing still before the walk [s], >= 0
+  double standing_after = 1.0;              ///< standing still after the walk [s], >= 0
+  double step_height = 0.07;                ///< swing-foot apex above the ground [m], [0, 0.3]
+  double max_step_length = 0.45;            ///< longest allowed swing-foot travel [m], > 0
+  bool right_foot_first = true;             ///< the right foot swings first
+  Footstep initial_right{0.0, -0.105, 0.0}; ///< right sole at the start
+  Footstep initial_left{0.0, 0.105, 0.0}; ///< left sole at the start (straight-walk tests: +-0.105)
+  /// Landing placements of the successive swing feet (alternating, first = right if
+  /// right_foot_first). Default: 6 steps, swing travel 0.135, 0.27, 0.27, 0.27, 0.27, 0.135 m,
+  /// ending with the feet side by side 0.675 m ahead.
+  std::vector<Footstep> footsteps = {{0.135, -0.105, 0.0}, {0.27, 0.105, 0.0},
+                                     {0.405, -0.105, 0.0}, {0.54, 0.105, 0.0},
+                                     {0.675, -0.105, 0.0}, {0.675, 0.105, 0.0}};
+};
+
+/// Throws std::invalid_argument naming the parameter, its value and the allowed range.
+void check_walking_parameters(const WalkingParameters& params);
+
+/// Phase of the walk at one sample.
+enum class SupportPhase { double_support, right_support, left_support };
+
+/// The plan sampled at the pattern period (all arrays have n_samples rows).
+struct FootstepPlan {
+  int n_samples = 0;
+  Eigen::VectorXd time;           ///< t_k = k T [s]
+  Eigen::MatrixX2d zmp_reference; ///< p_ref(t) [m]: support-sole centre in single support, linear
+                                  ///< between the two sole centres in double support
+  Eigen::MatrixX3d right_sole;    ///< (x, y, z) of r_sole [m]
+  Eigen::MatrixX3d left_sole;     ///< (x, y, z) of l_sole [m]
+  Eigen::VectorXd right_yaw, left_yaw; ///< [rad]
+  std::vector<SupportPhase> phase;
+  double walk_start = 0.0, walk_end = 0.0; ///< start and end of the walk proper [s]
+};
+
+/// Minimum-jerk (quintic) transition s(tau) = 10 tau^3 - 15 tau^4 + 6 tau^5 on tau in [0, 1],
+/// s(0) = 0, s(1) = 1, zero velocity and acceleration at both ends. Returns (s, ds/dtau,
+/// d2s/dtau2).
+Eigen::Vector3d quintic_transition(double tau);
+
+/// Swing height profile h(tau) = 64 tau^3 (1 - tau)^3 (apex 1 at tau = 1/2; zero value,
+/// velocity and acceleration at lift-off and touchdown). Returns (h, dh/dtau, d2h/dtau2).
+Eigen::Vector3d swing_height_profile(double tau);
+
+/// Samples the plan: ZMP reference and both sole trajectories. The swing sole moves
+/// horizontally (and in yaw) by quintic_transition and vertically by step_height *
+/// swing_height_profile over the single-support time.
+FootstepPlan make_footstep_plan(const WalkingParameters& params);
+
+} // namespace plantar::walking

@@ -1,0 +1,74 @@
+#include "multibody/walking/joint_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <stdexcept>
+
+namespace plantar::walking {
+
+void JointReference::sample(double t, RobotAngles& q_out, Eigen::Isometry3d& base_out) const {
+  const int n = n_samples();
+  if (n == 0)
+    throw std::runtime_error("JointReference::sample: empty reference");
+  t = std::clamp(t, 0.0, duration());
+  const int k = std::min(static_cast<int>(std::floor(t / period)), n - 1);
+  const int k1 = std::min(k + 1, n - 1);
+  const double w = k1 == k ? 0.0 : std::clamp((t - time(k)) / period, 0.0, 1.0);
+  q_out = ((1.0 - w) * q.row(k) + w * q.row(k1)).transpose();
+  const Eigen::Quaterniond q0(base_orientation(k, 0), base_orientation(k, 1),
+                              base_orientation(k, 2), base_orientation(k, 3));
+  const Eigen::Quaterniond q1(base_orientation(k1, 0), base_orientation(k1, 1),
+                              base_orientation(k1, 2), base_orientation(k1, 3));
+  base_out.setIdentity();
+  base_out.linear() = q0.slerp(w, q1).toRotationMatrix();
+  base_out.translation() =
+      ((1.0 - w) * base_position.row(k) + w * base_position.row(k1)).transpose();
+}
+
+void JointReference::resize(int n, double sample_period) {
+  period = sample_period;
+  time.resize(n);
+  for (int k = 0; k < n; ++k)
+    time(k) = k * period;
+  q.resize(n, n_robot_joints);
+  base_position.resize(n, 3);
+  base_orientation.resize(n, 4);
+  com.resize(n, 3);
+}
+
+void JointReference::set(int k, const Eigen::Isometry3d& base, const RobotAngles& angles,
+                         const Eigen::Vector3d& centre_of_mass) {
+  q.row(k) = angles.transpose();
+  base_position.row(k) = base.translation().transpose();
+  const Eigen::Quaterniond quat(base.linear());
+  base_orientation.row(k) << quat.w(), quat.x(), quat.y(), quat.z();
+  com.row(k) = centre_of_mass.transpose();
+}
+
+void JointReference::write_csv(const std::string& path) const {
+  std::ofstream out(path);
+  if (!out)
+    throw std::runtime_error("JointReference::write_csv: cannot open '" + path + "' for writing");
+  out << "t,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,com_x,com_y,com_z";
+  for (const std::string& name : robot_joint_names())
+    out << "," << name;
+  out << "\n";
+  out.precision(17);
+  for (int k = 0; k < n_samples(); ++k) {
+    out << time(k);
+    for (int i = 0; i < 3; ++i)
+      out << "," << base_position(k, i);
+    for (int i = 0; i < 4; ++i)
+      out << "," << base_orientation(k, i);
+    for (int i = 0; i < 3; ++i)
+      out << "," << com(k, i);
+    for (int j = 0; j < n_robot_joints; ++j)
+      out << "," << q(k, j);
+    out << "\n";
+  }
+  if (!out)
+    throw std::runtime_error("JointReference::write_csv: error while writing '" + path + "'");
+}
+
+} // namespace plantar::walking

@@ -1,0 +1,493 @@
+// The walk of David et al. 2008 (six steps in six seconds), the standing and lean references:
+// ZMP inside the support polygon, swing feet landing at rest on their footsteps, a continuous
+// joint reference within the URDF limits that realises the planned sole poses.
+#include "multibody/walking/leg_ik.h"
+#include "multibody/walking/walking_reference.h"
+#include "tests/multibody/walking/urdf_fk.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <gtest/gtest.h>
+#include <stdexcept>
+
+namespace {
+
+using namespace plantar::walking;
+using plantar::walking::testing::link_pose;
+
+const std::string kUrdf = std::string(PLANTAR_SOURCE_DIR) + "/models/hrp2/hrp2.urdf";
+constexpr double kFootLength = 0.2172, kFootWidth = 0.138; // public HRP-2 sole size
+
+using Point = Eigen::Vector2d;
+
+double cross(const Point& o, const Point& a, const Point& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+/// Convex hull (Andrew's monotone chain), counter-clockwise.
+std::vector<Point> convex_hull(std::vector<Point> points) {
+  std::sort(points.begin(), points.end(), [](const Point& a, const Point& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Point> hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], points[i]) <= 0)
+      --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], points[i - 1]) <= 0)
+      --k;
+    hull[k++] = points[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+/// Signed distance from p to the boundary of a convex CCW polygon (> 0 inside).
+double inside_margin(const std::vector<Point>& polygon, const Point& p) {
+  double margin = 1e9;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Point& a = polygon[i];
+    const Point& b = polygon[(i + 1) % polygon.size()];
+    margin = std::min(margin, cross(a, b, p) / (b - a).norm());
+  }
+  return margin;
+}
+
+void add_sole_corners(std::vector<Point>& points, const Eigen::Vector3d& centre, double yaw) {
+  const Eigen::Rotation2Dd rotation(yaw);
+  for (double sx : {-0.5, 0.5})
+    for (double sy : {-0.5, 0.5})
+      points.push_back(centre.head<2>() + rotation * Point(sx * kFootLength, sy * kFootWidth));
+}
+
+std::map<std::string, double> named_angles(const RobotAngles& q) {
+  std::map<std::string, double> named;
+  for (int i = 0; i < n_robot_joints; ++i)
+    named[robot_joint_names()[i]] = q(i);
+  return named;
+}
+
+Eigen::Isometry3d base_pose(const JointReference& ref, int k) {
+  Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+  base.translation() = ref.base_position.row(k).transpose();
+  base.linear() = Eigen::Quaterniond(ref.base_orientation(k, 0), ref.base_orientation(k, 1),
+                                     ref.base_orientation(k, 2), ref.base_orientation(k, 3))
+                      .toRotationMatrix();
+  return base;
+}
+
+/// Max joint-limit violation (rad, <= 0 means inside) and max |dq/dt| / velocity limit.
+void check_limits(const urdf::ModelInterface& model, const JointReference& ref,
+                  double& worst_violation, double& worst_speed_ratio, std::string& worst_joint) {
+  worst_violation = -1e9;
+  worst_speed_ratio = 0.0;
+  for (int j = 0; j < n_robot_joints; ++j) {
+    const auto limits = model.getJoint(robot_joint_names()[j])->limits;
+    const Eigen::VectorXd column = ref.q.col(j);
+    const double violation =
+        std::max(column.maxCoeff() - limits->upper, limits->lower - column.minCoeff());
+    if (violation > worst_violation) {
+      worst_violation = violation;
+      worst_joint = robot_joint_names()[j];
+    }
+    for (int k = 0; k + 1 < ref.n_samples(); ++k)
+      worst_speed_ratio = std::max(worst_speed_ratio, std::abs(column(k + 1) - column(k)) /
+                                                          ref.period / limits->velocity);
+  }
+}
+
+class WalkingPatternTest : public ::testing::Test {
+protected:
+  static void SetUpTestSuite() {
+    model_ = load_urdf(kUrdf);
+    pattern_ = new WalkingPattern(make_walking_pattern(*model_, WalkingParameters()));
+  }
+  static void TearDownTestSuite() { delete pattern_; }
+  static std::shared_ptr<urdf::ModelInterface> model_;
+  static WalkingPattern* pattern_;
+};
+std::shared_ptr<urdf::ModelInterface> WalkingPatternTest::model_;
+WalkingPattern* WalkingPatternTest::pattern_ = nullptr;
+
+TEST_F(WalkingPatternTest, PaperWalkTimingAndSteps) {
+  const WalkingParameters walk;
+  const FootstepPlan& plan = pattern_->plan;
+  double max_travel = 0.0;
+  Footstep right = walk.initial_right, left = walk.initial_left;
+  for (size_t i = 0; i < walk.footsteps.size(); ++i) {
+    Footstep& swing = i % 2 == 0 ? right : left;
+    max_travel = std::max(max_travel,
+                          std::hypot(walk.footsteps[i].x - swing.x, walk.footsteps[i].y - swing.y));
+    swing = walk.footsteps[i];
+  }
+  std::printf("walk: %zu steps, %.3f s (paper: 6 steps in 6 s), longest step %.3f m (paper <= "
+              "0.45), whole reference %.3f s, %d samples\n",
+              walk.footsteps.size(), plan.walk_end - plan.walk_start, max_travel,
+              pattern_->reference.duration(), plan.n_samples);
+  EXPECT_EQ(walk.footsteps.size(), 6u);
+  EXPECT_NEAR(plan.walk_end - plan.walk_start, 6.0, 1e-12);
+  EXPECT_LE(max_travel, 0.45 + 1e-12);
+  // A step longer than max_step_length is rejected.
+  WalkingParameters too_long = walk;
+  too_long.footsteps[2].x = too_long.footsteps[0].x + 0.46;
+  EXPECT_THROW(make_footstep_plan(too_long), std::invalid_argument);
+}
+
+TEST_F(WalkingPatternTest, ZmpInsideSupportPolygon) {
+  const FootstepPlan& plan = pattern_->plan;
+  const PreviewControlParameters preview; // g, z_c = 0.814 as used by make_walking_pattern
+  double min_margin = 1e9, min_margin_time = 0.0, max_ref_error = 0.0;
+  double min_margin_single = 1e9;
+  for (int k = 0; k < plan.n_samples; ++k) {
+    // Cart-table ZMP recomputed here from the CoM states: p = c - z_c / g c''.
+    const Point zmp(
+        pattern_->com_x(k, 0) - preview.com_height / preview.gravity * pattern_->com_x(k, 2),
+        pattern_->com_y(k, 0) - preview.com_height / preview.gravity * pattern_->com_y(k, 2));
+    max_ref_error = std::max(max_ref_error, (zmp - plan.zmp_reference.row(k).transpose()).norm());
+    std::vector<Point> corners;
+    if (plan.phase[k] != SupportPhase::left_support)
+      add_sole_corners(corners, plan.right_sole.row(k).transpose(), plan.right_yaw(k));
+    if (plan.phase[k] != SupportPhase::right_support)
+      add_sole_corners(corners, plan.left_sole.row(k).transpose(), plan.left_yaw(k));
+    const double margin = inside_margin(convex_hull(corners), zmp);
+    if (margin < min_margin) {
+      min_margin = margin;
+      min_margin_time = plan.time(k);
+    }
+    if (plan.phase[k] != SupportPhase::double_support)
+      min_margin_single = std::min(min_margin_single, margin);
+  }
+  std::printf("cart-table ZMP: min margin to the support polygon %.4f m at t = %.3f s (tol >= "
+              "0.02 m), in single support %.4f m; max |p - p_ref| %.4f m\n",
+              min_margin, min_margin_time, min_margin_single, max_ref_error);
+  EXPECT_GT(min_margin, 0.02);
+  // The CoM of the whole-body reference (URDF masses) equals the preview-control CoM.
+  double com_error = 0.0;
+  for (int k = 0; k < plan.n_samples; ++k)
+    com_error =
+        std::max(com_error, std::hypot(pattern_->reference.com(k, 0) - pattern_->com_x(k, 0),
+                                       pattern_->reference.com(k, 1) - pattern_->com_y(k, 0)));
+  const Eigen::VectorXd com_z = pattern_->reference.com.col(2);
+  std::printf("whole-body CoM vs preview CoM: %.3e m (tol 1e-8); CoM height %.4f..%.4f m "
+              "(cart-table z_c 0.814)\n",
+              com_error, com_z.minCoeff(), com_z.maxCoeff());
+  EXPECT_LT(com_error, 1e-8);
+}
+
+// Multi-body ZMP of the joint reference (full rigid-body model, not the cart table):
+//   p_x = c_x - (c_z c''_x + dL_y / M) / (c''_z + g),  p_y = c_y - (c_z c''_y - dL_x / M) / (c''_z
+//   + g)
+// with L the angular momentum about the CoM, L = sum m_i (c_i - c) x c'_i + R_i I_i R_i^T w_i,
+// all rates by central differences of the link poses (URDF chain of the test helper).
+TEST_F(WalkingPatternTest, MultibodyZmpInsideSupportPolygon) {
+  const JointReference& ref = pattern_->reference;
+  const FootstepPlan& plan = pattern_->plan;
+  const int n = ref.n_samples();
+  const double T = ref.period, g = 9.81;
+  struct LinkState {
+    double mass;
+    Eigen::Vector3d com;
+    Eigen::Matrix3d rotation, inertia;
+  };
+  std::vector<std::vector<LinkState>> links(n);
+  Eigen::MatrixX3d com(n, 3);
+  double total_mass = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Isometry3d base = base_pose(ref, k);
+    const auto named = named_angles(ref.q.row(k).transpose());
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+    total_mass = 0.0;
+    for (const auto& [name, link] : model_->links_) {
+      if (!link->inertial)
+        continue;
+      const auto& in = *link->inertial;
+      const Eigen::Isometry3d pose = base * link_pose(*model_, name, named);
+      const Eigen::Isometry3d inertial_frame =
+          pose * plantar::walking::testing::to_isometry(in.origin);
+      Eigen::Matrix3d inertia;
+      inertia << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+      links[k].push_back({in.mass, inertial_frame.translation(), inertial_frame.linear(), inertia});
+      moment += in.mass * inertial_frame.translation();
+      total_mass += in.mass;
+    }
+    com.row(k) = (moment / total_mass).transpose();
+  }
+  auto angular_momentum = [&](int k) {
+    Eigen::Vector3d L = Eigen::Vector3d::Zero();
+    const Eigen::Vector3d c = com.row(k).transpose();
+    for (size_t i = 0; i < links[k].size(); ++i) {
+      const LinkState& s = links[k][i];
+      const Eigen::Vector3d velocity = (links[k + 1][i].com - links[k - 1][i].com) / (2 * T);
+      const Eigen::AngleAxisd turn(links[k + 1][i].rotation * links[k - 1][i].rotation.transpose());
+      const Eigen::Vector3d omega = turn.angle() * turn.axis() / (2 * T);
+      L += s.mass * (s.com - c).cross(velocity) +
+           s.rotation * s.inertia * s.rotation.transpose() * omega;
+    }
+    return L;
+  };
+  double min_margin = 1e9, min_margin_time = 0.0, max_difference = 0.0;
+  for (int k = 2; k + 2 < n; ++k) {
+    const Eigen::Vector3d acc =
+        (com.row(k + 1) - 2 * com.row(k) + com.row(k - 1)).transpose() / (T * T);
+    const Eigen::Vector3d dL = (angular_momentum(k + 1) - angular_momentum(k - 1)) / (2 * T);
+    const double denominator = acc.z() + g;
+    const Point zmp(com(k, 0) - (com(k, 2) * acc.x() + dL.y() / total_mass) / denominator,
+                    com(k, 1) - (com(k, 2) * acc.y() - dL.x() / total_mass) / denominator);
+    std::vector<Point> corners;
+    if (plan.phase[k] != SupportPhase::left_support)
+      add_sole_corners(corners, plan.right_sole.row(k).transpose(), plan.right_yaw(k));
+    if (plan.phase[k] != SupportPhase::right_support)
+      add_sole_corners(corners, plan.left_sole.row(k).transpose(), plan.left_yaw(k));
+    const double margin = inside_margin(convex_hull(corners), zmp);
+    if (margin < min_margin) {
+      min_margin = margin;
+      min_margin_time = plan.time(k);
+    }
+    max_difference =
+        std::max(max_difference, (zmp - pattern_->cart_table_zmp.row(k).transpose()).norm());
+  }
+  std::printf("multi-body ZMP of q_ref: min margin %.4f m at t = %.3f s (tol > 0.005 m); max "
+              "distance to the cart-table ZMP %.4f m\n",
+              min_margin, min_margin_time, max_difference);
+  EXPECT_GT(min_margin, 0.005);
+}
+
+TEST_F(WalkingPatternTest, SwingFeetLandAtRestOnFootsteps) {
+  // Profiles: zero velocity and acceleration at both ends, checked by central differences.
+  const double h = 1e-5;
+  double max_derivative_mismatch = 0.0;
+  for (double tau = 0.05; tau < 1.0; tau += 0.05)
+    for (auto profile : {&quintic_transition, &swing_height_profile}) {
+      const Eigen::Vector3d v = profile(tau), vp = profile(tau + h), vm = profile(tau - h);
+      max_derivative_mismatch =
+          std::max({max_derivative_mismatch, std::abs((vp(0) - vm(0)) / (2 * h) - v(1)),
+                    std::abs((vp(1) - vm(1)) / (2 * h) - v(2))});
+    }
+  const Eigen::Vector3d s0 = quintic_transition(0.0), s1 = quintic_transition(1.0);
+  const Eigen::Vector3d h0 = swing_height_profile(0.0), h1 = swing_height_profile(1.0);
+  std::printf("profiles: s(0..1) = %.1f..%.1f, h(1/2) = %.3f, end derivatives max %.1e, "
+              "finite-difference mismatch %.2e (tol 1e-6)\n",
+              s0(0), s1(0), swing_height_profile(0.5)(0),
+              std::max({s0.tail<2>().cwiseAbs().maxCoeff(), s1.tail<2>().cwiseAbs().maxCoeff(),
+                        h0.cwiseAbs().maxCoeff(), h1.cwiseAbs().maxCoeff()}),
+              max_derivative_mismatch);
+  EXPECT_EQ(s0.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(h0.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(h1.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((s1 - Eigen::Vector3d(1, 0, 0)).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NEAR(swing_height_profile(0.5)(0), 1.0, 1e-15);
+  EXPECT_LT(max_derivative_mismatch, 1e-6);
+
+  // In the sampled plan: each swing sole ends on its footstep; its speed over the last and
+  // first samples of the swing is ~0 (a quintic: |v| <= 30 (T/T_ss)^2 travel / T_ss).
+  const WalkingParameters walk;
+  const FootstepPlan& plan = pattern_->plan;
+  const double T = plan.time(1) - plan.time(0);
+  double max_landing_error = 0.0, max_touchdown_speed = 0.0, max_apex = 0.0;
+  size_t step = 0;
+  for (int k = 1; k < plan.n_samples; ++k) {
+    const bool was_swing = plan.phase[k - 1] != SupportPhase::double_support;
+    const bool lifted = plan.phase[k - 1] == SupportPhase::double_support &&
+                        plan.phase[k] != SupportPhase::double_support;
+    const bool right_swing_prev = plan.phase[k - 1] == SupportPhase::left_support;
+    const bool right_swing_now = plan.phase[k] == SupportPhase::left_support;
+    max_apex = std::max({max_apex, plan.right_sole(k, 2), plan.left_sole(k, 2)});
+    if (lifted) {
+      const auto& sole = right_swing_now ? plan.right_sole : plan.left_sole;
+      max_touchdown_speed =
+          std::max(max_touchdown_speed, (sole.row(k + 1) - sole.row(k)).norm() / T);
+    }
+    if (was_swing && plan.phase[k] != plan.phase[k - 1]) { // touchdown at sample k
+      const auto& sole = right_swing_prev ? plan.right_sole : plan.left_sole;
+      const Eigen::Vector3d target(walk.footsteps[step].x, walk.footsteps[step].y, 0.0);
+      max_landing_error = std::max(max_landing_error, (sole.row(k).transpose() - target).norm());
+      max_touchdown_speed =
+          std::max(max_touchdown_speed, (sole.row(k) - sole.row(k - 1)).norm() / T);
+      ++step;
+    }
+  }
+  // A sample may fall just before the phase switch, so bound by two samples of the quintic:
+  // (travel * 10 + height * 64) (2 T / T_ss)^3 / T (s ~ 10 tau^3, h ~ 64 tau^3 near the ends;
+  // the analytic swing velocity and acceleration are exactly 0 there).
+  const double speed_bound = (walk.max_step_length * 10.0 + walk.step_height * 64.0) *
+                             std::pow(2.0 * T / walk.single_support_time, 3) / T;
+  std::printf("%zu landings: position error %.2e m (tol 1e-12), lift-off/touchdown speed over "
+              "one sample %.2e m/s (tol %.2e), apex %.4f m (step height 0.07)\n",
+              step, max_landing_error, max_touchdown_speed, speed_bound, max_apex);
+  EXPECT_EQ(step, walk.footsteps.size());
+  EXPECT_LT(max_landing_error, 1e-12);
+  EXPECT_LT(max_touchdown_speed, speed_bound);
+  EXPECT_NEAR(max_apex, walk.step_height, 1e-4);
+}
+
+TEST_F(WalkingPatternTest, JointReferenceRealisesPlanWithinLimits) {
+  const JointReference& ref = pattern_->reference;
+  const FootstepPlan& plan = pattern_->plan;
+  // Sole poses from q_ref by the URDF chain (urdfdom transforms), against the plan.
+  double max_sole_error = 0.0, max_sole_tilt = 0.0;
+  double max_waist_speed = 0.0;
+  for (int k = 0; k < ref.n_samples(); ++k) {
+    const Eigen::Isometry3d base = base_pose(ref, k);
+    const auto named = named_angles(ref.q.row(k).transpose());
+    for (int side = 0; side < 2; ++side) {
+      const Eigen::Isometry3d sole =
+          base * link_pose(*model_, side == 0 ? "r_sole" : "l_sole", named);
+      const auto& planned = side == 0 ? plan.right_sole : plan.left_sole;
+      const double yaw = side == 0 ? plan.right_yaw(k) : plan.left_yaw(k);
+      max_sole_error =
+          std::max(max_sole_error, (sole.translation() - planned.row(k).transpose()).norm());
+      const Eigen::Matrix3d expected =
+          Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+      max_sole_tilt =
+          std::max(max_sole_tilt, Eigen::AngleAxisd(expected.transpose() * sole.linear()).angle());
+    }
+    if (k > 0) // forward speed of the reference point (the waist)
+      max_waist_speed = std::max(
+          max_waist_speed, (ref.base_position(k, 0) - ref.base_position(k - 1, 0)) / ref.period);
+  }
+  double violation, speed_ratio;
+  std::string joint;
+  check_limits(*model_, ref, violation, speed_ratio, joint);
+  // Leg joints only (the upper body is constant).
+  double leg_margin = 1e9;
+  std::string leg_joint;
+  for (int j = 0; j < 12; ++j) {
+    const auto limits = model_->getJoint(robot_joint_names()[j])->limits;
+    const double margin =
+        std::min(limits->upper - ref.q.col(j).maxCoeff(), ref.q.col(j).minCoeff() - limits->lower);
+    if (margin < leg_margin) {
+      leg_margin = margin;
+      leg_joint = robot_joint_names()[j];
+    }
+  }
+  std::printf("worst leg joint-limit margin %.4f rad (%s)\n", leg_margin, leg_joint.c_str());
+  // Continuity: second differences of q bounded (no jumps, e.g. branch switches of the IK).
+  double max_jump = 0.0;
+  for (int k = 1; k + 1 < ref.n_samples(); ++k)
+    max_jump = std::max(
+        max_jump, (ref.q.row(k + 1) - 2 * ref.q.row(k) + ref.q.row(k - 1)).cwiseAbs().maxCoeff());
+  std::printf(
+      "q_ref realises the plan: sole position error %.2e m, orientation %.2e rad (tol "
+      "1e-9); worst joint-limit margin %.4f rad (%s), max |dq/dt| = %.3f x velocity "
+      "limit; max |second difference| %.2e rad (%.2f rad/s^2); peak forward waist speed %.3f "
+      "m/s (paper: about 0.3, tol [0.25, 0.35])\n",
+      max_sole_error, max_sole_tilt, -violation, joint.c_str(), speed_ratio, max_jump,
+      max_jump / (ref.period * ref.period), max_waist_speed);
+  EXPECT_LT(max_sole_error, 1e-9);
+  EXPECT_LT(max_sole_tilt, 1e-9);
+  EXPECT_LE(violation, 0.0);
+  EXPECT_LT(speed_ratio, 1.0);
+  EXPECT_LT(max_jump / (ref.period * ref.period), 200.0); // rad/s^2
+  EXPECT_LT(max_waist_speed, 0.35);
+  EXPECT_GT(max_waist_speed, 0.25);
+}
+
+TEST_F(WalkingPatternTest, SampleInterpolates) {
+  const JointReference& ref = pattern_->reference;
+  RobotAngles q;
+  Eigen::Isometry3d base;
+  double max_error = 0.0;
+  for (int k = 100; k + 1 < ref.n_samples(); k += 97) {
+    ref.sample(ref.time(k), q, base);
+    max_error = std::max(max_error, (q - ref.q.row(k).transpose()).cwiseAbs().maxCoeff());
+    ref.sample(ref.time(k) + 0.25 * ref.period, q, base);
+    const RobotAngles expected = (0.75 * ref.q.row(k) + 0.25 * ref.q.row(k + 1)).transpose();
+    max_error = std::max(max_error, (q - expected).cwiseAbs().maxCoeff());
+    max_error = std::max(
+        max_error,
+        (base.translation() -
+         (0.75 * ref.base_position.row(k) + 0.25 * ref.base_position.row(k + 1)).transpose())
+            .norm());
+  }
+  std::printf("sample(): interpolation error %.2e (tol 1e-12)\n", max_error);
+  EXPECT_LT(max_error, 1e-12);
+}
+
+TEST(WalkingPattern, BadInputIsReported) {
+  const auto model = load_urdf(kUrdf);
+  WalkingParameters walk;
+  walk.single_support_time = -0.78;
+  try {
+    make_footstep_plan(walk);
+    ADD_FAILURE() << "negative single_support_time accepted";
+  } catch (const std::invalid_argument& e) {
+    std::printf("rejected: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("single_support_time"), std::string::npos);
+  }
+  // A lateral step of 0.4 m is short enough for max_step_length but beyond the hip-roll
+  // reach of the right leg: the generator must say which leg, when, and by how much.
+  walk = WalkingParameters();
+  walk.footsteps = {{0.0, -0.505, 0.0}, {0.0, 0.105, 0.0}};
+  try {
+    make_walking_pattern(*model, walk);
+    ADD_FAILURE() << "unreachable plan accepted";
+  } catch (const std::runtime_error& e) {
+    std::printf("rejected: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("right leg"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("t = "), std::string::npos);
+  }
+}
+
+TEST(StandingReference, ComOverFeetWithBentKnees) {
+  const auto model = load_urdf(kUrdf);
+  const JointReference ref = make_standing_reference(*model, 1.0);
+  const auto named = named_angles(ref.q.row(0).transpose());
+  const Eigen::Isometry3d base = base_pose(ref, 0);
+  // CoM recomputed with the test's own URDF chain.
+  const auto [mass, com] = plantar::walking::testing::mass_and_com(*model, named);
+  const Eigen::Vector3d com_world = base * com;
+  const Eigen::Vector3d right = (base * link_pose(*model, "r_sole", named)).translation();
+  const Eigen::Vector3d left = (base * link_pose(*model, "l_sole", named)).translation();
+  std::printf("standing: CoM (%.2e, %.2e, %.6f) m, soles z %.2e / %.2e, waist height %.4f m, "
+              "knees %.2f / %.2f deg\n",
+              com_world.x(), com_world.y(), com_world.z(), right.z(), left.z(),
+              base.translation().z(), ref.q(0, 3) * 180 / M_PI, ref.q(0, 9) * 180 / M_PI);
+  EXPECT_NEAR(com_world.x(), 0.0, 1e-9);
+  EXPECT_NEAR(com_world.y(), 0.0, 1e-9);
+  EXPECT_NEAR(com_world.z(), 0.814, 1e-9);
+  EXPECT_NEAR(right.z(), 0.0, 1e-9);
+  EXPECT_NEAR(left.y(), 0.105, 1e-9);
+  EXPECT_GT(ref.q(0, 3), 0.3); // knees bent
+  EXPECT_EQ((ref.q.row(0) - ref.q.row(ref.n_samples() - 1)).cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST(LeanReference, WaistRollRampsTo14_3Degrees) {
+  const auto model = load_urdf(kUrdf);
+  const LeanParameters lean;
+  const JointReference ref = make_lean_reference(*model, lean);
+  double max_sole_drift = 0.0, previous_roll = -1.0;
+  bool monotone = true;
+  const Eigen::Isometry3d base0 = base_pose(ref, 0);
+  const Eigen::Vector3d right0 =
+      (base0 * link_pose(*model, "r_sole", named_angles(ref.q.row(0).transpose()))).translation();
+  for (int k = 0; k < ref.n_samples(); ++k) {
+    const Eigen::Isometry3d base = base_pose(ref, k);
+    const auto named = named_angles(ref.q.row(k).transpose());
+    const Eigen::Isometry3d sole = base * link_pose(*model, "r_sole", named);
+    max_sole_drift = std::max(max_sole_drift, (sole.translation() - right0).norm() +
+                                                  Eigen::AngleAxisd(sole.linear()).angle());
+    const double roll = std::atan2(base.linear()(2, 1), base.linear()(2, 2));
+    monotone = monotone && roll >= previous_roll - 1e-15;
+    previous_roll = roll;
+  }
+  double violation, speed_ratio;
+  std::string joint;
+  check_limits(*model, ref, violation, speed_ratio, joint);
+  std::printf("lean: final waist roll %.6f deg (commanded 14.3), feet drift %.2e (tol 1e-9), "
+              "worst joint-limit margin %.4f rad (%s), CoM y moved %.4f m\n",
+              previous_roll * 180 / M_PI, max_sole_drift, -violation, joint.c_str(),
+              ref.com(ref.n_samples() - 1, 1) - ref.com(0, 1));
+  EXPECT_NEAR(previous_roll * 180 / M_PI, 14.3, 1e-9);
+  EXPECT_TRUE(monotone);
+  EXPECT_LT(max_sole_drift, 1e-9);
+  EXPECT_LE(violation, 0.0);
+  LeanParameters bad;
+  bad.ramp_time = 0.0;
+  EXPECT_THROW(make_lean_reference(*model, bad), std::invalid_argument);
+}
+
+} // namespace
