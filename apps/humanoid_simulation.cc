@@ -1,6 +1,7 @@
 #include "apps/humanoid_simulation.h"
 
 #include "coupling/condensed_sole.h"
+#include "coupling/contact_frame_compliance.h"
 #include "fem/material_table.h"
 #include "fem/mesh_generator.h"
 #include "fem/mesh_import.h"
@@ -161,12 +162,13 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     for (int k = 0; k < nodes.cols(); ++k)
       body_nodes.col(k) = frame.placement.act_point(nodes.col(k));
     if (sole_) {
-      // C in the body frame: R C R^T per 3x3 block, R = sole -> body rotation.
+      // C in the body frame: R C R^T per 3x3 block, R = sole -> body rotation
+      // (identity "contact" frames: the stepper projects onto its own frames).
       const int n = static_cast<int>(nodes.cols());
-      Eigen::MatrixXd rotation = Eigen::MatrixXd::Zero(3 * n, 3 * n);
-      for (int k = 0; k < n; ++k)
-        rotation.block<3, 3>(3 * k, 3 * k) = frame.placement.rotation;
-      const Eigen::MatrixXd compliance = rotation * sole_->compliance() * rotation.transpose();
+      const Eigen::MatrixXd identity_frames = Eigen::Matrix3d::Identity().replicate(1, n);
+      Eigen::MatrixXd compliance(3 * n, 3 * n);
+      coupling::rotate_compliance_to_contact_frames(sole_->compliance(), frame.placement.rotation,
+                                                    identity_frames, compliance);
       const int patch = stepper_->add_compliant_patch(frame.body, body_nodes, compliance, mu);
       for (int k = 0; k < n; ++k)
         feet_[foot].push_back({k, patch, frame.body, body_nodes.col(k)});
