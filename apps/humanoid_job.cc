@@ -1,16 +1,47 @@
 #include "apps/humanoid_job.h"
 
+#include "apps/progress.h"
+#include "apps/scene_vtk_writer.h"
+#include "fem/atomic_file.h"
+#include "fem/exception_text.h"
+
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
 #include <sstream>
+#include <stdexcept>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace plantar::app {
 
 HumanoidSummary run_humanoid(const Scene& scene, const std::filesystem::path& output) {
   HumanoidSimulation simulation(scene);
+  std::unique_ptr<SceneVtkWriter> vtk; // Output/Write VTU: the ParaView series from t = 0
+  if (scene.output.write_vtu) {
+    vtk = std::make_unique<SceneVtkWriter>(simulation, scene.robot.urdf_file,
+                                           scene.output.vtk_stick_radius, output);
+    vtk->write(simulation);
+    simulation.set_output_hook(scene.output.vtk_every,
+                               [&vtk](const HumanoidSimulation& s) { vtk->write(s); });
+  }
+  const double end_time = simulation.n_steps() * scene.simulation.time_step;
+  ProgressBar progress(std::string(scene.type) + " (" + to_string(scene.robot.foot_form) + ")",
+                       end_time);
+  const auto show = [&](const HumanoidSimulation& s) {
+    progress.update(s.steps_done() * scene.simulation.time_step);
+  };
   try {
-    simulation.run();
+    if (progress.enabled())
+      simulation.run(show);
+    else
+      simulation.run();
+    progress.finish();
   } catch (const std::runtime_error&) {
+    progress.finish();
     if (scene.output.write_csv)
       simulation.write_csv(output / "failed");
     throw;
@@ -33,6 +64,10 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << " m/s^2 (backward difference of the step velocities)\n"
       << "waist height: min " << s.min_waist_height << " m, max |z - z_ref| "
       << s.max_waist_height_error << " m\n";
+  if (s.sole_recondensation_tolerance > 0)
+    out << "hyperelastic soles: " << s.sole_newton_checks << " Newton checks, "
+        << s.sole_recondensations << " re-condensations, largest tolerated prediction error "
+        << s.sole_tolerated_error << " (tolerance " << s.sole_recondensation_tolerance << ")\n";
   if (scene.type == "stand")
     out << "stand: max waist displacement after the settle time: " << s.stand_window_deviation * 1e3
         << " mm\n";
@@ -45,12 +80,137 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << "left sole at the end: " << s.final_left_sole.transpose() << " m (planned "
       << s.planned_left_sole.transpose() << ")\n"
       << "contact force at the end: " << s.final_contact_force.transpose() << " N\n"
-      << "contacts: up to " << s.max_active_contacts << " active, " << s.n_unconverged
-      << " unconverged solves, max residual " << s.max_solver_residual << " m/s, max penetration "
+      << "contacts: up to " << s.max_active_contacts << " active, max penetration "
       << s.max_penetration * 1e3 << " mm\n"
+      << "contact solver: " << s.n_solves << " solves, iterations mean "
+      << (s.n_solves ? static_cast<double>(s.solver_iterations) / s.n_solves : 0.0) << " max "
+      << s.max_solver_iterations << ", " << s.n_unconverged << " unconverged, max residual "
+      << s.max_solver_residual << " m/s\n"
       << "wall time: setup " << s.setup_wall_time << " s, loop " << s.loop_wall_time << " s ("
-      << s.cost() << " s per simulated second)\n";
+      << s.cost() << " s per simulated second, "
+      << (s.loop_wall_time > 0 ? s.n_steps / s.loop_wall_time : 0.0) << " steps per second)\n";
   return out.str();
+}
+
+int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
+                   const std::filesystem::path& output) {
+  std::ostringstream all, failures;
+  all << "comparison: " << scene_file.string() << " (" << scene.type << "), "
+      << scene.robot.foot_forms.size() << " foot forms\n";
+  for (const FootForm form : scene.robot.foot_forms) {
+    Scene one = scene;
+    one.robot.foot_form = form;
+    one.robot.foot_forms.clear();
+    const std::filesystem::path dir = output / form_directory(form);
+    std::error_code ignored;
+    for (const char* stale : {"summary.txt", "summary.csv", "failure.txt"})
+      std::filesystem::remove(dir / stale, ignored);
+    std::filesystem::remove_all(dir / "failed", ignored);
+    // The form's full parameter set.
+    dealii::ParameterHandler prm;
+    Scene::declare(prm);
+    prm.parse_input(scene_file.string(), "", false, true);
+    prm.enter_subsection("Robot");
+    prm.set("Foot form", to_string(form));
+    prm.set("Foot forms", "");
+    prm.leave_subsection();
+    fem::write_file_atomically(dir / "parameters.prm", [&](std::ostream& os) {
+      prm.print_parameters(os, dealii::ParameterHandler::PRM);
+    });
+    std::string text;
+    try {
+      const HumanoidSummary summary = run_humanoid(one, dir);
+      text = format_summary(one, summary);
+      write_summary_csv(dir / "summary.csv", one, summary);
+      fem::write_file_atomically(dir / "summary.txt", [&](std::ostream& os) { os << text; });
+    } catch (const std::exception& e) {
+      const std::string message = fem::exception_text(e);
+      text = "foot form: " + std::string(to_string(form)) + ": FAILED: " + message + "\n" +
+             "(the steps done so far are in " + (dir / "failed").string() + ")\n";
+      fem::write_file_atomically(dir / "failure.txt",
+                                 [&](std::ostream& os) { os << message << "\n"; });
+      failures << "  " << to_string(form) << ": " << message << "\n";
+    }
+    std::cout << text << std::flush;
+    all << text;
+  }
+  const bool failed = !failures.str().empty();
+  if (failed)
+    all << "failed foot forms:\n" << failures.str();
+  fem::write_file_atomically(output / "summary.txt", [&](std::ostream& os) { os << all.str(); });
+  const int plot_status = plot_directory(output);
+  if (failed)
+    std::cerr << "plantar run: " << scene_file.string() << ": foot forms failed:\n"
+              << failures.str();
+  if (plot_status != 0)
+    std::cerr << "plantar run: the figures of " << output.string() << " failed (plot exit status "
+              << plot_status << ")\n";
+  return failed || plot_status != 0 ? 1 : 0;
+}
+
+std::string form_directory(FootForm form) {
+  std::string name = to_string(form);
+  for (char& c : name)
+    if (c == ' ')
+      c = '_';
+  return name;
+}
+
+void write_summary_csv(const std::filesystem::path& path, const Scene& scene,
+                       const HumanoidSummary& s) {
+  const double deg = 180.0 / M_PI;
+  fem::write_file_atomically(path, [&](std::ostream& out) {
+    out << std::setprecision(17) << "name,value\n"
+        << "time_step," << s.time_step << "\n"
+        << "n_steps," << s.n_steps << "\n"
+        << "simulated_time," << s.simulated_time << "\n"
+        << "max_waist_acceleration_z," << s.max_waist_acceleration_z << "\n"
+        << "min_waist_height," << s.min_waist_height << "\n"
+        << "max_waist_height_error," << s.max_waist_height_error << "\n"
+        << "commanded_roll_deg," << s.commanded_roll * deg << "\n"
+        << "final_roll_deg," << s.final_roll * deg << "\n"
+        << "roll_difference_deg," << (s.commanded_roll - s.final_roll) * deg << "\n"
+        << "max_roll_difference_deg," << s.max_roll_difference * deg << "\n"
+        << "sole_thickness,"
+        << (scene.robot.foot_form == FootForm::fem_sole ? scene.sole.thickness : 0.0) << "\n"
+        << "n_solves," << s.n_solves << "\n"
+        << "mean_solver_iterations,"
+        << (s.n_solves ? static_cast<double>(s.solver_iterations) / s.n_solves : 0.0) << "\n"
+        << "max_solver_iterations," << s.max_solver_iterations << "\n"
+        << "n_unconverged," << s.n_unconverged << "\n"
+        << "max_solver_residual," << s.max_solver_residual << "\n"
+        << "max_penetration," << s.max_penetration << "\n"
+        << "setup_wall_time," << s.setup_wall_time << "\n"
+        << "loop_wall_time," << s.loop_wall_time << "\n";
+  });
+}
+
+double read_summary_value(const std::filesystem::path& path, const std::string& name) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.compare(0, name.size() + 1, name + ",") == 0)
+      return std::stod(line.substr(name.size() + 1));
+  throw std::runtime_error("'" + path.string() + "' has no value '" + name + "'");
+}
+
+int plot_directory(const std::filesystem::path& directory) {
+  const std::filesystem::path script = PLANTAR_PLOT_SCRIPT;
+  if (!std::filesystem::exists(script))
+    throw std::runtime_error("plot script '" + script.string() + "' not found");
+  std::fflush(stdout);
+  const pid_t pid = ::fork();
+  if (pid < 0)
+    throw std::runtime_error("plot: cannot start a process");
+  if (pid == 0) {
+    ::execl(PLANTAR_PYTHON, PLANTAR_PYTHON, script.c_str(), directory.c_str(),
+            static_cast<char*>(nullptr));
+    std::fprintf(stderr, "plantar plot: cannot run %s\n", PLANTAR_PYTHON);
+    ::_exit(127);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
 }
 
 } // namespace plantar::app

@@ -96,6 +96,12 @@ void RobotParameters::declare(dealii::ParameterHandler& prm) {
                     "between ankle and foot (paper eq. 13); fem sole: the FEM sole of "
                     "subsection Sole condensed on its bottom nodes under each foot (eq. 11-12), "
                     "the robot's reference raised by Sole/Thickness.");
+  prm.declare_entry("Foot forms", "",
+                    dealii::Patterns::List(Selection("rigid|compliant ankle|fem sole"), 0, 3),
+                    "Comparison of foot forms: plantar run runs the scene once per form listed "
+                    "(e.g. 'rigid, compliant ankle, fem sole') into DIR/<form>/ and plots them "
+                    "together into DIR/figures/; plantar sweep sweeps these forms. Empty: Foot "
+                    "form only.");
   prm.declare_entry("Ankle linear stiffness", "40000", Double(0),
                     "compliant ankle: vertical spring k_z (N/m), > 0.");
   prm.declare_entry("Ankle linear damping", "600", Double(0),
@@ -104,6 +110,11 @@ void RobotParameters::declare(dealii::ParameterHandler& prm) {
                     "compliant ankle: pitch and roll springs (N m/rad), > 0.");
   prm.declare_entry("Ankle angular damping", "60", Double(0),
                     "compliant ankle: pitch and roll dampers (N m s/rad).");
+  prm.declare_entry("Ankle deflection compensation", "false", dealii::Patterns::Bool(),
+                    "compliant ankle: offset the ankle pitch/roll references by the static "
+                    "spring deflection tau/k that the reference's own ground wrench causes "
+                    "(feed-forward as in HRP-2's controller; multibody/walking/"
+                    "ankle_compensation.h).");
   prm.declare_entry("CoM height", "0.814", Double(0.5, 0.9),
                     "CoM height of the standing and walking posture (m); sets the waist height.");
 }
@@ -118,15 +129,50 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
   foot_form = form == "rigid"             ? FootForm::rigid
               : form == "compliant ankle" ? FootForm::compliant_ankle
                                           : FootForm::fem_sole;
+  foot_forms.clear();
+  for (const std::string& item : dealii::Utilities::split_string_list(prm.get("Foot forms"), ','))
+    foot_forms.push_back(item == "rigid"             ? FootForm::rigid
+                         : item == "compliant ankle" ? FootForm::compliant_ankle
+                                                     : FootForm::fem_sole);
   ankle_linear_stiffness = prm.get_double("Ankle linear stiffness");
   ankle_linear_damping = prm.get_double("Ankle linear damping");
   ankle_angular_stiffness = prm.get_double("Ankle angular stiffness");
+  ankle_deflection_compensation = prm.get_bool("Ankle deflection compensation");
   ankle_angular_damping = prm.get_double("Ankle angular damping");
   com_height = prm.get_double("CoM height");
   require(ankle_linear_stiffness > 0, "Robot/Ankle linear stiffness", ankle_linear_stiffness,
           "> 0");
   require(ankle_angular_stiffness > 0, "Robot/Ankle angular stiffness", ankle_angular_stiffness,
           "> 0");
+}
+
+void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
+  prm.declare_entry("Reduced patches", "0", Anything(),
+                    "fem sole: 0 = the full condensed sole (one contact per bottom node); "
+                    "'nx, ny' (integers >= 1) = a reduced sole: the bottom nodes grouped by an nx "
+                    "x ny grid over the sole into patches, one contact per patch with the "
+                    "patch-averaged compliance A^T C A (coupling/reduced_sole.h).");
+}
+
+void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
+  const std::string text = prm.get("Reduced patches");
+  const auto items = dealii::Utilities::split_string_list(text, ',');
+  bool ok = false;
+  patches_x = patches_y = 0;
+  try {
+    if (items.size() == 1 && dealii::Utilities::string_to_int(items[0]) == 0) {
+      ok = true;
+    } else if (items.size() == 2) {
+      patches_x = dealii::Utilities::string_to_int(items[0]);
+      patches_y = dealii::Utilities::string_to_int(items[1]);
+      ok = patches_x >= 1 && patches_y >= 1 && patches_x <= 1000 && patches_y <= 1000;
+    }
+  } catch (...) {
+    ok = false;
+  }
+  if (!ok)
+    throw std::invalid_argument("Sole/Reduced patches = '" + text +
+                                "': allowed 0 (full sole) or 'nx, ny' with integers in [1, 1000]");
 }
 
 void ContactParameters::declare(dealii::ParameterHandler& prm) {

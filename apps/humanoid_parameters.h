@@ -26,13 +26,27 @@ const char* to_string(FootForm form);
 struct RobotParameters {
   std::filesystem::path urdf_file = "models/hrp2/hrp2.urdf"; ///< resolved like Sole paths
   FootForm foot_form = FootForm::rigid;
-  double ankle_linear_stiffness = 40000; ///< N/m, > 0 (hrp2.md, public HRP-2 flexibility)
-  double ankle_linear_damping = 600;     ///< N s/m, >= 0
-  double ankle_angular_stiffness = 600;  ///< N m/rad, > 0
-  double ankle_angular_damping = 60;     ///< N m s/rad, >= 0
+  /// `plantar run`: run every form of this list (Foot form ignored) into DIR/<form>/; empty:
+  /// Foot form only. `plantar sweep`: the forms of the sweep.
+  std::vector<FootForm> foot_forms;
+  double ankle_linear_stiffness = 40000;      ///< N/m, > 0 (hrp2.md, public HRP-2 flexibility)
+  double ankle_linear_damping = 600;          ///< N s/m, >= 0
+  double ankle_angular_stiffness = 600;       ///< N m/rad, > 0
+  double ankle_angular_damping = 60;          ///< N m s/rad, >= 0
+  bool ankle_deflection_compensation = false; ///< feed-forward of the static spring deflection
   double com_height = 0.814; ///< m, (0.5, 0.9): CoM height of the standing/walking posture
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory);
+};
+
+/// Entries of subsection "Sole" read by the humanoid scenes only: the reduced sole
+/// (coupling/reduced_sole.h) for Robot/Foot form = fem sole.
+struct SoleReductionParameters {
+  int patches_x = 0; ///< 0: the full condensed sole; else nx x ny grid of contact patches
+  int patches_y = 0; ///< >= 1 when patches_x >= 1
+  bool reduced() const { return patches_x > 0; }
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
 };
 
 /// Subsection "Contact".

@@ -2,11 +2,15 @@
 
 #include "coupling/condensed_sole.h"
 #include "coupling/contact_frame_compliance.h"
+#include "coupling/nonlinear_condensed_sole.h"
+#include "coupling/reduced_sole.h"
+#include "fem/hyperelastic_material_table.h"
 #include "fem/material_table.h"
 #include "fem/mesh_generator.h"
 #include "fem/mesh_import.h"
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
+#include "multibody/walking/ankle_compensation.h"
 #include "multibody/walking/leg_geometry.h"
 #include "multibody/walking/walking_reference.h"
 
@@ -107,8 +111,21 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     walking::PreviewControlParameters preview;
     preview.period = walk.period;
     preview.preview_time = scene_.walking.preview_time;
-    const auto pattern = walking::make_walking_pattern(*urdf, walk, preview, posture);
+    // The ZMP is on the ground, lift_ (the fem sole's thickness) below the sole frames.
+    walking::WalkingParameters lifted = walk;
+    lifted.ground_clearance = lift_;
+    const auto pattern = walking::make_walking_pattern(*urdf, lifted, preview, posture);
     reference_ = pattern.reference;
+  }
+  Eigen::VectorXd final_deflection; // compensated compliant ankles: springs at the end
+  if (scene_.robot.foot_form == FootForm::compliant_ankle &&
+      scene_.robot.ankle_deflection_compensation) {
+    const auto deflection =
+        walking::compensate_ankle_deflection(*urdf, scene_.robot.ankle_angular_stiffness,
+                                             scene_.robot.ankle_linear_stiffness, reference_)
+            .deflection;
+    initial_deflection_ = deflection.row(0).transpose();
+    final_deflection = deflection.bottomRows<1>().transpose();
   }
   if (duration <= 0)
     duration = reference_.duration();
@@ -127,7 +144,8 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
   const double mu = scene_.contact.friction;
 
-  Eigen::Matrix3Xd nodes; // sole frame
+  Eigen::Matrix3Xd nodes;          // sole frame
+  Eigen::MatrixXd sole_compliance; // sole frame, 3 nodes.cols() square; empty: rigid points
   if (scene_.robot.foot_form == FootForm::fem_sole) {
     auto request = scene_.sole.mesh_request();
     if (request.cache_directory.empty())
@@ -135,8 +153,12 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     const auto msh = fem::generate_mesh(request);
     dealii::Triangulation<3> tria;
     const auto groups = fem::import_mesh(msh, {"top", "bottom"}, tria);
-    const fem::MaterialTable materials(
-        fem::parse_material_specs(scene_.sole.materials, "Sole/Materials"), groups);
+    const auto specs = fem::parse_material_specs(scene_.sole.materials, "Sole/Materials");
+    const bool hyperelastic = scene_.sole.model == "hyperelastic";
+    // Hyperelastic: the linear sole of the same small-strain E, nu (replaced below).
+    const fem::MaterialTable materials =
+        hyperelastic ? fem::HyperelasticMaterialTable(specs, groups).linearized()
+                     : fem::MaterialTable(specs, groups);
     coupling::CondensationParameters condensation;
     condensation.attached_boundary = groups.surface("top");
     condensation.contact_boundary = groups.surface("bottom");
@@ -145,6 +167,31 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     nodes = sole_->contact_positions().transpose();
     summary_.n_sole_nodes = sole_->n_contacts();
     stepper_parameters.max_contacts = 2 * sole_->n_contacts();
+    sole_compliance = sole_->compliance();
+    if (scene_.sole_reduction.reduced()) {
+      // Reduced sole: bottom nodes grouped into patches, one contact per patch with the
+      // patch-averaged compliance (coupling/reduced_sole.h). The stepper's contacts are no
+      // longer the FEM nodes, so the condensed sole is released (no field output).
+      const auto& positions = sole_->contact_positions();
+      const coupling::ReducedSole reduced(
+          positions, sole_->compliance(),
+          coupling::ReducedSole::grid_patches(positions, scene_.sole_reduction.patches_x,
+                                              scene_.sole_reduction.patches_y));
+      nodes = reduced.patch_positions().transpose();
+      sole_compliance = reduced.compliance();
+      summary_.n_sole_nodes = reduced.n_patches();
+      stepper_parameters.max_contacts = 2 * reduced.n_patches();
+      sole_.reset();
+    }
+    if (hyperelastic) {
+      if (scene_.sole_reduction.reduced())
+        throw std::invalid_argument("Sole/Model = hyperelastic cannot be combined with a reduced "
+                                    "sole (Sole reduction): use one or the other");
+      build_hyperelastic_soles(tria, groups, nodes, sole_compliance);
+      summary_.n_sole_nodes = static_cast<int>(nodes.cols());
+      stepper_parameters.max_contacts = 2 * static_cast<int>(nodes.cols());
+      sole_.reset(); // its node order is not the hyperelastic soles' one
+    }
   } else {
     const double a = scene_.sole.length / 2, b = scene_.sole.width / 2;
     nodes.resize(3, 8);
@@ -161,13 +208,13 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     Eigen::Matrix3Xd body_nodes(3, nodes.cols());
     for (int k = 0; k < nodes.cols(); ++k)
       body_nodes.col(k) = frame.placement.act_point(nodes.col(k));
-    if (sole_) {
+    if (sole_compliance.size() > 0) {
       // C in the body frame: R C R^T per 3x3 block, R = sole -> body rotation
       // (identity "contact" frames: the stepper projects onto its own frames).
       const int n = static_cast<int>(nodes.cols());
       const Eigen::MatrixXd identity_frames = Eigen::Matrix3d::Identity().replicate(1, n);
       Eigen::MatrixXd compliance(3 * n, 3 * n);
-      coupling::rotate_compliance_to_contact_frames(sole_->compliance(), frame.placement.rotation,
+      coupling::rotate_compliance_to_contact_frames(sole_compliance, frame.placement.rotation,
                                                     identity_frames, compliance);
       const int patch = stepper_->add_compliant_patch(frame.body, body_nodes, compliance, mu);
       for (int k = 0; k < n; ++k)
@@ -187,6 +234,16 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   q_ref_ = q_;
   reference_at(0.0, q_);
   q_ref_prev_ = q_;
+  // Compensated compliant ankles start on their predicted deflection (feet on the ground).
+  const auto set_springs = [&](const Eigen::VectorXd& deflection, Eigen::VectorXd& q) {
+    for (int foot = 0; foot < 2 && deflection.size() == 6; ++foot) {
+      const std::string link = foot == 0 ? "RLEG_LINK5" : "LLEG_LINK5";
+      const char* const dofs[3] = {"_compliance_z", "_compliance_pitch", "_compliance_roll"};
+      for (int i = 0; i < 3; ++i)
+        q[model_.idx_q[model_.joint_id(link + dofs[i])]] = deflection[3 * foot + i];
+    }
+  };
+  set_springs(initial_deflection_, q_);
   if (type == "drop") {
     // The planned (reference) base is on the ground: lift_ only applies to the initial state.
     lift_ -= sim.release_height;
@@ -196,6 +253,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   {
     Eigen::VectorXd q_end = q_;
     reference_at(n_steps_ * dt, q_end);
+    set_springs(final_deflection, q_end); // the planned feet, not the compensated legs' ends
     multibody::forward_kinematics(model_, data_, q_end);
     summary_.planned_right_sole =
         multibody::frame_placement(model_, data_, sole_frames_[0]).translation;
@@ -236,6 +294,72 @@ void HumanoidSimulation::reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_ou
     q_out[joint_q_[j]] = angles_[j];
 }
 
+void HumanoidSimulation::build_hyperelastic_soles(const dealii::Triangulation<3>& tria,
+                                                  const fem::PhysicalGroups& groups,
+                                                  Eigen::Matrix3Xd& nodes,
+                                                  Eigen::MatrixXd& compliance) {
+  const fem::HyperelasticMaterialTable laws(
+      fem::parse_material_specs(scene_.sole.materials, "Sole/Materials"), groups);
+  coupling::NonlinearCouplingParameters parameters;
+  parameters.sole.attached_boundary = groups.surface("top");
+  parameters.sole.contact_boundary = groups.surface("bottom");
+  parameters.sole.newton.formulation = scene_.sole.mixed
+                                           ? fem::NonlinearSettings::Formulation::mixed
+                                           : fem::NonlinearSettings::Formulation::displacement;
+  parameters.sole.recondensation_tolerance = scene_.sole.recondensation_tolerance;
+  parameters.check_tolerance = scene_.sole.check_tolerance;
+  for (auto& sole : hyperelastic_)
+    sole = std::make_unique<coupling::NonlinearCondensedSole>(tria, laws, scene_.sole.degree,
+                                                              parameters);
+  nodes = hyperelastic_[0]->contact_positions().transpose();
+  compliance = hyperelastic_[0]->compliance();
+  const int n = static_cast<int>(nodes.cols());
+  sole_forces_.setZero(3 * n);
+  sole_offset_.setZero(3 * n);
+  sole_compliance_.setZero(3 * n, 3 * n);
+  summary_.sole_recondensation_tolerance = parameters.sole.recondensation_tolerance;
+}
+
+void HumanoidSimulation::update_hyperelastic_soles() {
+  const double dt = summary_.time_step;
+  for (int foot = 0; foot < 2; ++foot) {
+    coupling::NonlinearCondensedSole& sole = *hyperelastic_[foot];
+    const multibody::Frame& frame = model_.frames[sole_frames_[foot]];
+    // Node forces in the sole frame: contact frame (n, t1, t2) = world (z, x, y) -> body -> sole.
+    const Eigen::Matrix3d world_to_sole =
+        frame.placement.rotation.transpose() * data_.oMi[frame.body].rotation.transpose();
+    int patch = -1;
+    for (const FootContact& c : feet_[foot]) {
+      const Eigen::Vector3d& p = stepper_->node_impulse(c.patch, c.point);
+      sole_forces_.segment<3>(3 * c.point) = world_to_sole * Eigen::Vector3d(p[1], p[2], p[0]) / dt;
+      patch = c.patch;
+    }
+    coupling::NonlinearUpdateReport report;
+    try {
+      report = sole.update(sole_forces_);
+    } catch (const std::exception& e) {
+      fail(std::string(foot == 0 ? "right" : "left") + " hyperelastic sole: " + e.what());
+    }
+    if (report.recondensed) {
+      // Body frame: R C R^T per 3x3 block and R d per node, R = sole -> body rotation.
+      const Eigen::Matrix3d& r = frame.placement.rotation;
+      const int n = sole.n_contacts();
+      for (int i = 0; i < n; ++i) {
+        sole_offset_.segment<3>(3 * i) = r * sole.offset().segment<3>(3 * i);
+        for (int j = 0; j < n; ++j)
+          sole_compliance_.block<3, 3>(3 * i, 3 * j) =
+              r * sole.compliance().block<3, 3>(3 * i, 3 * j) * r.transpose();
+      }
+      stepper_->set_patch_compliance(patch, sole_compliance_, sole_offset_);
+    }
+  }
+  summary_.sole_newton_checks = hyperelastic_[0]->n_checks() + hyperelastic_[1]->n_checks();
+  summary_.sole_recondensations = static_cast<int>(hyperelastic_[0]->n_recondensations() +
+                                                   hyperelastic_[1]->n_recondensations());
+  summary_.sole_tolerated_error =
+      std::max(hyperelastic_[0]->max_tolerated_error(), hyperelastic_[1]->max_tolerated_error());
+}
+
 void HumanoidSimulation::fail(const std::string& what) const {
   std::ostringstream msg;
   msg << scene_.type << " (" << to_string(scene_.robot.foot_form) << "): step " << step_
@@ -265,6 +389,10 @@ void HumanoidSimulation::step() {
   summary_.max_active_contacts = std::max(summary_.max_active_contacts, report.n_contacts);
   if (report.n_contacts > 0) {
     summary_.max_solver_residual = std::max(summary_.max_solver_residual, report.solver.residual);
+    ++summary_.n_solves;
+    summary_.solver_iterations += report.solver.iterations;
+    summary_.max_solver_iterations =
+        std::max(summary_.max_solver_iterations, static_cast<int>(report.solver.iterations));
     if (!report.solver.converged()) {
       ++summary_.n_unconverged;
       if (!(report.solver.residual <= scene_.contact.failure_residual)) {
@@ -327,6 +455,8 @@ void HumanoidSimulation::step() {
       summary_.max_penetration = std::max(summary_.max_penetration, -z);
     }
   }
+  if (hyperelastic_[0])
+    update_hyperelastic_soles();
   if (summary_.max_penetration > scene_.simulation.max_penetration) {
     std::ostringstream msg;
     msg << "a contact point is " << summary_.max_penetration
@@ -343,6 +473,8 @@ void HumanoidSimulation::step() {
     summary_.final_left_sole =
         multibody::frame_placement(model_, data_, sole_frames_[1]).translation;
   }
+  if (output_hook_ && (step_ % output_every_ == 0 || step_ == n_steps_))
+    output_hook_(*this);
 
   if (!scene_.output.write_csv || (step_ % scene_.output.output_every != 0 && step_ != n_steps_))
     return;
@@ -381,10 +513,18 @@ void HumanoidSimulation::step() {
   cr[15] = report.solver.residual;
 }
 
-void HumanoidSimulation::run() {
+void HumanoidSimulation::run(const std::function<void(const HumanoidSimulation&)>& after_step) {
   const auto start = Clock::now();
-  while (step_ < n_steps_)
-    step();
+  try {
+    while (step_ < n_steps_) {
+      step();
+      if (after_step)
+        after_step(*this);
+    }
+  } catch (...) {
+    summary_.loop_wall_time += seconds_since(start);
+    throw;
+  }
   summary_.loop_wall_time += seconds_since(start);
 }
 

@@ -22,17 +22,21 @@
 #include "multibody/stepper.h"
 #include "multibody/walking/joint_reference.h"
 
+#include <deal.II/grid/tria.h>
+
 #include <Eigen/Core>
 
 #include <array>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace plantar::coupling {
 class CondensedSole;
-}
+class NonlinearCondensedSole;
+} // namespace plantar::coupling
 
 namespace plantar::app {
 
@@ -47,6 +51,9 @@ struct HumanoidSummary {
   int max_active_contacts = 0;         ///< most contact points in one step
   int n_unconverged = 0;               ///< contact solves stopped above the tolerance
   double max_solver_residual = 0;      ///< m/s, over all solves
+  int n_solves = 0;                    ///< contact solves (steps with active contacts)
+  long solver_iterations = 0;          ///< contact-solver iterations, summed over the solves
+  int max_solver_iterations = 0;       ///< most iterations of one solve
   double max_penetration = 0;          ///< m, deepest contact point (deformed sole included)
   double max_waist_acceleration_z = 0; ///< max |a_z| of the waist over the run
   double max_waist_height_error = 0;   ///< max |z - z_ref| of the waist, m
@@ -60,6 +67,11 @@ struct HumanoidSummary {
   Eigen::Vector3d planned_right_sole = Eigen::Vector3d::Zero(); ///< planned (reference) at end
   Eigen::Vector3d planned_left_sole = Eigen::Vector3d::Zero();
   Eigen::Vector3d final_contact_force = Eigen::Vector3d::Zero(); ///< both feet, N, world
+  // Sole/Model = hyperelastic (both feet; coupling/nonlinear_condensed_sole.h):
+  int sole_newton_checks = 0;      ///< Newton solves of the soles (force changed enough)
+  int sole_recondensations = 0;    ///< tangent re-condensations
+  double sole_tolerated_error = 0; ///< largest prediction error accepted without re-condensing
+  double sole_recondensation_tolerance = 0; ///< the scene's tolerance (0: linear sole)
   /// Wall seconds of the loop per simulated second.
   double cost() const { return simulated_time > 0 ? loop_wall_time / simulated_time : 0; }
 };
@@ -78,8 +90,9 @@ public:
   int steps_done() const { return step_; }
   /// One time step (see the file comment). No heap allocation.
   void step();
-  /// All remaining steps; fills summary().loop_wall_time.
-  void run();
+  /// All remaining steps; fills summary().loop_wall_time. @p after_step (if set) is called
+  /// after every step, e.g. for a progress bar.
+  void run(const std::function<void(const HumanoidSimulation&)>& after_step = nullptr);
 
   const HumanoidSummary& summary() const { return summary_; }
   const TimeSeries& waist_series() const { return waist_; }
@@ -92,6 +105,22 @@ public:
   /// Lift of the whole robot above the reference (m): the sole thickness for fem sole.
   double reference_lift() const { return lift_; }
 
+  // Read-only state for output writers (apps/scene_vtk_writer.h).
+  double time() const { return step_ * summary_.time_step; } ///< s
+  const multibody::Stepper& stepper() const { return *stepper_; }
+  /// The condensed sole (Foot form = fem sole), else nullptr.
+  const coupling::CondensedSole* sole() const { return sole_.get(); }
+  /// Stepper patch of foot @p foot (0 right, 1 left) for fem sole, else -1.
+  int sole_patch(int foot) const { return sole_ ? feet_[foot].front().patch : -1; }
+  /// Model frame index of r_sole (foot 0) or l_sole (foot 1).
+  int sole_frame(int foot) const { return sole_frames_[foot]; }
+  /// Calls @p hook at the end of every step() whose count is a multiple of @p every (>= 1)
+  /// and at the last step, after that step's failure checks. The hook may allocate.
+  void set_output_hook(int every, std::function<void(const HumanoidSimulation&)> hook) {
+    output_every_ = every;
+    output_hook_ = std::move(hook);
+  }
+
 private:
   struct FootContact {
     int point = -1; ///< stepper point index, or node index of patch `patch`
@@ -101,18 +130,30 @@ private:
   };
   void reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_out);
   [[noreturn]] void fail(const std::string& what) const;
+  /// Sole/Model = hyperelastic: builds one NonlinearCondensedSole per foot on @p tria and
+  /// sets the contact nodes and compliance (sole frame) of the patches.
+  void build_hyperelastic_soles(const dealii::Triangulation<3>& tria,
+                                const fem::PhysicalGroups& groups, Eigen::Matrix3Xd& nodes,
+                                Eigen::MatrixXd& compliance);
+  /// After a step: contact forces -> each hyperelastic sole; re-condensed tangents -> stepper.
+  void update_hyperelastic_soles();
 
   Scene scene_;
   double lift_ = 0;
   multibody::Model model_;
   walking::JointReference reference_;
   std::unique_ptr<coupling::CondensedSole> sole_;
+  std::array<std::unique_ptr<coupling::NonlinearCondensedSole>, 2> hyperelastic_; ///< or null
   std::unique_ptr<multibody::Stepper> stepper_;
   multibody::Data data_;
   std::array<std::vector<FootContact>, 2> feet_; ///< right, left
   std::array<int, 2> sole_frames_{};
   std::array<int, walking::n_robot_joints> joint_q_{}, joint_v_{};
   int n_steps_ = 0, step_ = 0;
+  /// Compensated compliant ankles: spring deflection at t = 0 (u, theta_p, theta_r per foot).
+  Eigen::VectorXd initial_deflection_;
+  int output_every_ = 1;
+  std::function<void(const HumanoidSimulation&)> output_hook_;
   double settle_time_ = 0;
 
   // Workspaces.
@@ -120,6 +161,8 @@ private:
   walking::RobotAngles angles_;
   Eigen::Vector3d waist_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d settle_position_ = Eigen::Vector3d::Zero();
+  Eigen::VectorXd sole_forces_, sole_offset_; // hyperelastic soles: 3 n_c
+  Eigen::MatrixXd sole_compliance_;           // 3 n_c square
   TimeSeries waist_, joints_, contacts_;
   HumanoidSummary summary_;
 };

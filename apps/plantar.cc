@@ -1,15 +1,19 @@
 // plantar: the command-line program.
-//   plantar run SCENE.prm [-o DIR]     run a scene, write outputs to DIR
-//   plantar print-parameters           every scene parameter with default, range, help
+//   plantar run SCENE.prm [-o DIR]           run a scene (or a comparison of foot forms)
+//   plantar sweep SCENE.prm [-o DIR] [-j N]  one run per point of subsection Sweep
+//   plantar plot DIR                         PNG figures from the CSVs under DIR
+//   plantar print-parameters                 every scene parameter with default, range, help
 //   plantar --help | <command> --help
 #include "apps/humanoid_job.h"
 #include "apps/parameter_listing.h"
 #include "apps/scene.h"
 #include "apps/static_sole_job.h"
+#include "apps/sweep.h"
 #include "fem/atomic_file.h"
 #include "fem/exception_text.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -23,15 +27,19 @@ const char* const main_help =
     R"(plantar: finite-element soles under a humanoid robot (David et al. 2008).
 
 Usage:
-  plantar run SCENE.prm [-o DIR]   run a scene; outputs (parameters.prm, CSV, VTU) go to DIR
-                                   (default: out/<scene name>)
-  plantar print-parameters         print every scene parameter with its default, range and help
-  plantar <command> --help         help on a command
+  plantar run SCENE.prm [-o DIR]           run a scene; outputs (parameters.prm, summary, CSV,
+                                           VTU, figures) go to DIR (default: out/<scene name>)
+  plantar sweep SCENE.prm [-o DIR] [-j N]  run the grid of subsection Sweep, N processes at a
+                                           time; resumes an interrupted sweep
+  plantar plot DIR                         PNG figures from the CSVs under DIR into DIR/figures
+  plantar print-parameters                 print every scene parameter with its default, range
+                                           and help
+  plantar <command> --help                 help on a command
 
 Scenes are deal.II parameter files (.prm); see scenes/ and docs/user_guide.md.
 )";
 
-const char* const run_help = R"(plantar run SCENE.prm [-o DIR]
+const char* const run_help = R"(plantar run SCENE.prm [-o DIR] [--no-figures]
 
 Reads SCENE.prm, checks every parameter, runs the scene and writes into DIR:
   parameters.prm   the full parameter set used (reproducibility)
@@ -40,11 +48,44 @@ Reads SCENE.prm, checks every parameter, runs the scene and writes into DIR:
   waist.csv        humanoid scenes: waist position, velocity, acceleration, roll
   joints.csv       humanoid scenes: every joint's position, reference and PD torque
   contacts.csv     humanoid scenes: force and centre of pressure per foot, ZMP
+  summary.csv      humanoid scenes: the summary's figures as name,value
+  figures/         humanoid scenes: PNG figures (plantar plot; not with --no-figures)
 A humanoid run that fails (fall, non-finite state, unconverged contact solve,
 deep penetration) names the step and time, writes the steps done so far to
 DIR/failed/ and exits with status 1.
+With Robot/Foot forms set (e.g. rigid, compliant ankle, fem sole) the scene
+runs once per form into DIR/<form>/ (rigid, compliant_ankle, fem_sole) and the
+figures comparing them go to DIR/figures/ (plantar plot). A form that fails
+is reported with its message, its CSV up to the failure (DIR/<form>/failed/)
+is plotted, the other forms still run, and the exit status is 1.
+A progress bar (simulated time, real-time factor) is drawn on stderr when
+stdout and stderr are terminals.
 Files are written to a temporary name and renamed, so a failed run leaves no
 half-written output. Exit status: 0 on success, 1 on error, 2 on bad usage.
+)";
+
+const char* const sweep_help = R"(plantar sweep SCENE.prm [-o DIR] [-j N]
+
+Runs SCENE.prm (a humanoid scene: drop, lean, stand or walk) once per point of
+the grid: Robot/Foot forms (or Robot/Foot form) x Sweep/Time steps (or
+Simulation/Time step) x, for the fem sole, Sweep/Young's moduli x
+Sweep/Poisson ratios (replacing E= and nu= in Sole/Materials). Each point runs
+as a child process `plantar run DIR/points/<id>/scene.prm -o DIR/points/<id>`,
+up to N at a time (default 1). A point is finished once its summary.csv (or
+failure.txt) exists; both are written atomically, so rerunning an interrupted
+sweep only computes the missing points. Writes DIR/parameters.prm,
+DIR/sweep.csv (one row per point), DIR/summary.txt and DIR/figures/.
+Default DIR: out/<scene name>. Exit status 1 if a point failed.
+)";
+
+const char* const plot_help = R"(plantar plot DIR
+
+Draws PNG figures into DIR/figures/ from the CSVs under DIR (apps/plot/plantar_plot.py,
+run with /usr/bin/python3 and matplotlib):
+  a run (DIR/waist.csv ...)            waist_z, waist_velocity_z, waist_acceleration_z,
+  or a comparison (DIR/<form>/...)     right_knee_torque (paper Fig. 5 to 8)
+  a sweep (DIR/sweep.csv)              sweep_E_nu (Fig. 3 drop / Fig. 4 lean), sweep_time_step
+Exit status 1 with a message if DIR holds none of these.
 )";
 
 const char* const print_help = R"(plantar print-parameters [--prm]
@@ -82,9 +123,12 @@ int run(const std::vector<std::string>& args) {
     return 0;
   }
   std::string scene_file, output;
+  bool figures = true;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "-o" && i + 1 < args.size())
       output = args[++i];
+    else if (args[i] == "--no-figures")
+      figures = false;
     else if (scene_file.empty() && args[i][0] != '-')
       scene_file = args[i];
     else {
@@ -102,8 +146,17 @@ int run(const std::vector<std::string>& args) {
       output.empty() ? std::filesystem::path("out") / std::filesystem::path(scene_file).stem()
                      : std::filesystem::path(output);
 
+  if (scene.type != "static sole" && !scene.robot.foot_forms.empty()) {
+    fem::write_file_atomically(out / "parameters.prm", [&](std::ostream& os) {
+      prm.print_parameters(os, dealii::ParameterHandler::PRM);
+    });
+    const int status = app::run_comparison(scene_file, scene, out);
+    std::cout << "outputs in " << out.string() << "\n";
+    return status;
+  }
   std::ostringstream summary;
   summary << "scene: " << scene_file << " (" << scene.type << ")\n";
+  app::HumanoidSummary humanoid;
   try {
     if (scene.type == "static sole") {
       const auto result = app::run_static_sole(scene, out);
@@ -114,7 +167,8 @@ int run(const std::vector<std::string>& args) {
               << "reaction on the attached face: " << result.reaction_z << " N\n"
               << "wall time: " << result.wall_time << " s\n";
     } else {
-      summary << app::format_summary(scene, app::run_humanoid(scene, out));
+      humanoid = app::run_humanoid(scene, out);
+      summary << app::format_summary(scene, humanoid);
     }
   } catch (const std::exception& e) {
     throw std::runtime_error("scene '" + scene_file + "': " + fem::exception_text(e));
@@ -124,8 +178,74 @@ int run(const std::vector<std::string>& args) {
     prm.print_parameters(os, dealii::ParameterHandler::PRM);
   });
   fem::write_file_atomically(out / "summary.txt", [&](std::ostream& os) { os << summary.str(); });
+  // Last: its presence marks a finished run (plantar sweep).
+  if (scene.type != "static sole")
+    app::write_summary_csv(out / "summary.csv", scene, humanoid);
   std::cout << "outputs in " << out.string() << "\n";
+  if (figures && scene.type != "static sole" && scene.output.write_csv &&
+      app::plot_directory(out) != 0) {
+    std::cerr << "plantar run: the figures of " << out.string() << " failed\n";
+    return 1;
+  }
   return 0;
+}
+
+int sweep(const std::vector<std::string>& args) {
+  if (wants_help(args)) {
+    std::cout << sweep_help;
+    return 0;
+  }
+  std::string scene_file, output;
+  int jobs = 1;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (args[i] == "-o" && i + 1 < args.size())
+      output = args[++i];
+    else if (args[i] == "-j" && i + 1 < args.size()) {
+      char* end = nullptr;
+      const long n = std::strtol(args[++i].c_str(), &end, 10);
+      if (*end != '\0' || n < 1 || n > 256) {
+        std::cerr << "plantar sweep: -j " << args[i] << ": must be an integer in [1, 256]\n";
+        return 2;
+      }
+      jobs = static_cast<int>(n);
+    } else if (scene_file.empty() && args[i][0] != '-')
+      scene_file = args[i];
+    else {
+      std::cerr << "plantar sweep: unexpected argument '" << args[i] << "'\n" << sweep_help;
+      return 2;
+    }
+  }
+  if (scene_file.empty()) {
+    std::cerr << "plantar sweep: missing SCENE.prm\n" << sweep_help;
+    return 2;
+  }
+  dealii::ParameterHandler prm;
+  const app::Scene scene = app::load_scene(scene_file, prm);
+  const std::filesystem::path out =
+      output.empty() ? std::filesystem::path("out") / std::filesystem::path(scene_file).stem()
+                     : std::filesystem::path(output);
+  int status = 0;
+  try {
+    status = app::run_sweep(scene_file, scene, out, jobs,
+                            std::filesystem::read_symlink("/proc/self/exe"));
+  } catch (const std::exception& e) {
+    throw std::runtime_error("scene '" + scene_file + "': " + fem::exception_text(e));
+  }
+  const int plot_status = app::plot_directory(out);
+  std::cout << "outputs in " << out.string() << "\n";
+  return status != 0 || plot_status != 0 ? 1 : 0;
+}
+
+int plot(const std::vector<std::string>& args) {
+  if (wants_help(args)) {
+    std::cout << plot_help;
+    return 0;
+  }
+  if (args.size() != 1 || args[0][0] == '-') {
+    std::cerr << "plantar plot: expected one directory\n" << plot_help;
+    return 2;
+  }
+  return app::plot_directory(args[0]) == 0 ? 0 : 1;
 }
 
 } // namespace
@@ -141,6 +261,10 @@ int main(int argc, char** argv) {
   try {
     if (command == "run")
       return run(args);
+    if (command == "sweep")
+      return sweep(args);
+    if (command == "plot")
+      return plot(args);
     if (command == "print-parameters")
       return print_parameters(args);
     std::cerr << "plantar: unknown command '" << command << "'\n" << main_help;

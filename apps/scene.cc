@@ -26,7 +26,15 @@ void StaticLoadParameters::parse(dealii::ParameterHandler& prm) {
 }
 
 void OutputParameters::declare(dealii::ParameterHandler& prm) {
-  prm.declare_entry("Write VTU", "true", Bool(), "Write the sole's fields as .vtu for ParaView.");
+  prm.declare_entry("Write VTU", "true", Bool(),
+                    "static sole: write the sole's fields as sole.vtu; humanoid scenes: write "
+                    "the ParaView series (scene.pvd, vtk/*.vtu; docs/paraview.md).");
+  prm.declare_entry("VTK every", "40", dealii::Patterns::Integer(1),
+                    "Humanoid scenes: one ParaView frame every this many time steps (and the "
+                    "first and last steps).");
+  prm.declare_entry("VTK stick radius", "0.02", dealii::Patterns::Double(0.001, 0.2),
+                    "Humanoid scenes: radius (m) of the cylinders drawn for links without URDF "
+                    "<visual> or <collision> boxes or cylinders.");
   prm.declare_entry("Write CSV", "true", Bool(),
                     "Humanoid scenes: write waist.csv, joints.csv and contacts.csv.");
   prm.declare_entry("Output every", "1", dealii::Patterns::Integer(1),
@@ -37,6 +45,8 @@ void OutputParameters::parse(dealii::ParameterHandler& prm) {
   write_vtu = prm.get_bool("Write VTU");
   write_csv = prm.get_bool("Write CSV");
   output_every = prm.get_integer("Output every");
+  vtk_every = prm.get_integer("VTK every");
+  vtk_stick_radius = prm.get_double("VTK stick radius");
 }
 
 void Scene::declare(dealii::ParameterHandler& prm) {
@@ -50,6 +60,7 @@ void Scene::declare(dealii::ParameterHandler& prm) {
                     "sole, or for the outline of the rigid sole).");
   prm.enter_subsection("Sole");
   fem::SoleParameters::declare(prm);
+  SoleReductionParameters::declare(prm);
   prm.leave_subsection();
   prm.enter_subsection("Static load");
   StaticLoadParameters::declare(prm);
@@ -75,12 +86,16 @@ void Scene::declare(dealii::ParameterHandler& prm) {
   prm.enter_subsection("Output");
   OutputParameters::declare(prm);
   prm.leave_subsection();
+  prm.enter_subsection("Sweep");
+  SweepParameters::declare(prm);
+  prm.leave_subsection();
 }
 
 void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory) {
   type = prm.get("Scene type");
   prm.enter_subsection("Sole");
   sole.parse(prm, scene_directory);
+  sole_reduction.parse(prm);
   prm.leave_subsection();
   prm.enter_subsection("Static load");
   static_load.parse(prm);
@@ -105,6 +120,9 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   prm.leave_subsection();
   prm.enter_subsection("Output");
   output.parse(prm);
+  prm.leave_subsection();
+  prm.enter_subsection("Sweep");
+  sweep.parse(prm);
   prm.leave_subsection();
 }
 

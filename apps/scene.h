@@ -4,6 +4,7 @@
 // declare() and parse().
 
 #include "apps/humanoid_parameters.h"
+#include "apps/sweep_parameters.h"
 #include "fem/sole_parameters.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -24,9 +25,11 @@ struct StaticLoadParameters {
 
 /// Subsection "Output".
 struct OutputParameters {
-  bool write_vtu = true;
+  bool write_vtu = true; ///< static sole: sole.vtu; humanoid scenes: the ParaView series
   bool write_csv = true; ///< humanoid scenes: CSV time series
   int output_every = 1;  ///< humanoid scenes: one CSV row every this many steps, >= 1
+  int vtk_every = 40;    ///< humanoid scenes: one ParaView frame every this many steps, >= 1
+  double vtk_stick_radius = 0.02; ///< m, radius of the links drawn as sticks
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };
@@ -34,6 +37,7 @@ struct OutputParameters {
 struct Scene {
   std::string type = "static sole"; ///< static sole | stand | drop | lean | walk
   fem::SoleParameters sole;
+  SoleReductionParameters sole_reduction; ///< subsection Sole, humanoid scenes (fem sole)
   StaticLoadParameters static_load;
   RobotParameters robot;
   ContactParameters contact;
@@ -42,6 +46,7 @@ struct Scene {
   LeanSceneParameters lean;
   SimulationParameters simulation;
   OutputParameters output;
+  SweepParameters sweep; ///< plantar sweep only
 
   /// Declares every subsection in @p prm.
   static void declare(dealii::ParameterHandler& prm);

@@ -1,5 +1,6 @@
 #include "fem/sole_parameters.h"
 
+#include "fem/hyperelastic_material_table.h"
 #include "fem/material_table.h"
 
 #include <cstdlib>
@@ -43,6 +44,20 @@ void SoleParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Materials", "rubber: E=4e6, nu=0.3", Anything(),
                     "Material per physical volume: 'region: law=linear, E=<Pa>, nu=<->; ...' "
                     "with E > 0 and -1 < nu < 0.5.");
+  prm.declare_entry("Model", "linear", Selection("linear|hyperelastic"),
+                    "linear: the sole is condensed once (Materials with law=linear). "
+                    "hyperelastic: Materials with law=neo_hookean or mooney_rivlin; the tangent "
+                    "compliance is re-condensed in the time loop when its prediction error "
+                    "exceeds the Recondensation tolerance (docs/nonlinear_soles.md).");
+  prm.declare_entry("Formulation", "displacement", Selection("displacement|mixed"),
+                    "Hyperelastic only: displacement, or mixed u-p (nearly incompressible; Q1-P0 "
+                    "/ Q2-P1 on hexahedra, P2-P0 on tetrahedra).");
+  prm.declare_entry("Recondensation tolerance", "0.02", Double(0),
+                    "Hyperelastic only: re-condense when the relative error of the predicted "
+                    "contact displacements exceeds this, > 0.");
+  prm.declare_entry("Check tolerance", "0.02", Double(0, 1),
+                    "Hyperelastic only: Newton check of the sole when the contact forces moved "
+                    "by more than this fraction since the last check, [0, 1].");
   prm.declare_entry("Linear solver", "direct", Selection("direct|iterative"),
                     "Sparse direct (UMFPACK) or PETSc CG + BoomerAMG for large meshes.");
   prm.declare_entry("Iterative tolerance", "1e-10", Double(1e-16, 1e-2),
@@ -66,6 +81,10 @@ void SoleParameters::parse(dealii::ParameterHandler& prm,
   cell_kind = prm.get("Cell kind") == "hexahedron" ? CellKind::hexahedron : CellKind::tetrahedron;
   degree = prm.get_integer("Element degree");
   materials = prm.get("Materials");
+  model = prm.get("Model");
+  mixed = prm.get("Formulation") == "mixed";
+  recondensation_tolerance = positive(prm, "Recondensation tolerance");
+  check_tolerance = prm.get_double("Check tolerance");
   // Check the linear laws' parameters now, so errors name the scene; other
   // laws are checked by their own classes.
   for (const auto& [region, spec] : parse_material_specs(materials, "Sole/Materials"))
@@ -81,6 +100,15 @@ void SoleParameters::parse(dealii::ParameterHandler& prm,
         LinearElasticMaterial(get("E"), get("nu"), region);
       } catch (const std::invalid_argument& e) {
         throw std::invalid_argument(std::string("Sole/Materials: ") + e.what());
+      }
+    }
+  if (model == "hyperelastic")
+    for (const auto& [region, spec] : parse_material_specs(materials, "Sole/Materials")) {
+      try {
+        make_hyperelastic_law(spec);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument("Sole/Materials (Sole/Model = hyperelastic): region '" +
+                                    region + "': " + e.what());
       }
     }
   solver.kind = LinearSolverSettings::parse_kind(prm.get("Linear solver"));

@@ -22,6 +22,12 @@ struct SoleParameters {
   CellKind cell_kind = CellKind::tetrahedron;
   unsigned int degree = 1;                         ///< 1 (P1/Q1) or 2 (P2/Q2)
   std::string materials = "rubber: E=4e6, nu=0.3"; ///< see fem/material_table.h
+  /// "linear" (condensed once) or "hyperelastic" (laws of fem/hyperelastic_material_table.h,
+  /// tangent re-condensed in the time loop: coupling/nonlinear_condensed_sole.h).
+  std::string model = "linear";
+  bool mixed = false;                     ///< hyperelastic: mixed u-p formulation (no locking)
+  double recondensation_tolerance = 0.02; ///< hyperelastic: prediction error e, > 0
+  double check_tolerance = 0.02;          ///< hyperelastic: relative force change, [0, 1]
   LinearSolverSettings solver;
   std::filesystem::path cache_directory; ///< generated meshes; empty: default_mesh_cache()
 

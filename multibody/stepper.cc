@@ -7,6 +7,7 @@
 #include "multibody/kinematics.h"
 #include "multibody/rnea.h"
 
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -28,6 +29,8 @@ void StepperParameters::validate() const {
     msg << "StepperParameters: time_step = " << time_step << " s, allowed (0, 0.1]";
   } else if (max_contacts < 0 || max_contacts > 100000) {
     msg << "StepperParameters: max_contacts = " << max_contacts << ", allowed [0, 100000]";
+  } else if (!(contact_margin >= 0.0)) {
+    msg << "StepperParameters: contact_margin = " << contact_margin << " m, allowed [0, inf]";
   }
   if (!msg.str().empty()) {
     throw std::invalid_argument(msg.str());
@@ -122,7 +125,10 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
               friction,
               n_patch_points_,
               Eigen::VectorXd::Zero(3 * n),
-              Eigen::MatrixXd::Zero(3 * n, 3 * n)};
+              Eigen::MatrixXd::Zero(3 * n, 3 * n),
+              Eigen::VectorXd::Zero(3 * n),
+              Eigen::VectorXd::Zero(3 * n),
+              false};
   n_patch_points_ += n;
   patches_.push_back(std::move(patch));
   problem_.patches.push_back(coupling::CompliantPatch{});
@@ -139,6 +145,39 @@ void Stepper::add_point_row(int point, int row, double extra_gap) {
   gap_[point] = data_.oMi[c.body].act_point(c.position).z() + extra_gap;
 }
 
+void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::MatrixXd>& compliance,
+                                   const Eigen::Ref<const Eigen::VectorXd>& offset) {
+  if (patch < 0 || patch >= static_cast<int>(patches_.size())) {
+    throw std::invalid_argument("Stepper::set_patch_compliance: patch " + std::to_string(patch) +
+                                ", allowed [0, " + std::to_string(patches_.size()) + ")");
+  }
+  Patch& target = patches_[patch];
+  const int size = static_cast<int>(target.compliance.rows());
+  if (compliance.rows() != size || compliance.cols() != size || offset.size() != size ||
+      !compliance.allFinite() || !offset.allFinite()) {
+    std::ostringstream msg;
+    msg << "Stepper::set_patch_compliance: patch " << patch << ": compliance " << compliance.rows()
+        << "x" << compliance.cols() << " and offset " << offset.size() << " (expected " << size
+        << "x" << size << " and " << size << ", finite)";
+    throw std::invalid_argument(msg.str());
+  }
+  double asymmetry = 0, largest = 0;
+  for (int i = 0; i < size; ++i) {
+    for (int j = 0; j < i; ++j) {
+      asymmetry = std::max(asymmetry, std::abs(compliance(i, j) - compliance(j, i)));
+    }
+    for (int j = 0; j < size; ++j) {
+      largest = std::max(largest, std::abs(compliance(i, j)));
+    }
+  }
+  if (asymmetry > 1e-9 * largest) {
+    throw std::invalid_argument("Stepper::set_patch_compliance: compliance is not symmetric");
+  }
+  target.compliance = compliance;
+  target.offset = offset;
+  target.has_offset = !offset.isZero(0.0);
+}
+
 StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
                          const Eigen::Ref<const Eigen::VectorXd>& tau,
                          const Eigen::Ref<const Eigen::VectorXd>& q_ref,
@@ -149,7 +188,16 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   check_size(q_ref.size(), model_.nq, "Stepper::step: q_ref");
   check_size(v_ref.size(), model_.nv, "Stepper::step: v_ref");
   const double dt = parameters_.time_step;
+  const double margin = parameters_.contact_margin;
   StepReport report;
+  using Clock = std::chrono::steady_clock;
+  auto lap_start = Clock::now();
+  auto lap = [&lap_start](double& bucket) {
+    const auto now = Clock::now();
+    bucket += std::chrono::duration<double>(now - lap_start).count();
+    lap_start = now;
+  };
+  ++profile_.n_steps;
 
   // Free motion with linear-implicit springs: M_eff v_free = r.
   crba(model_, data_, q);
@@ -191,6 +239,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     v_free_ = rhs_;
     llt_.solveInPlace(v_free_);
   }
+  lap(profile_.dynamics);
 
   // Contact candidates: patches first (all nodes when any is active), then free points.
   int n = 0;
@@ -205,7 +254,12 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       add_point_row(point, n + k, patch.displacement[3 * k]);
       v_before_[point] = contact_jacobian_.row(3 * (n + k)).dot(v);
       const double v_free_n = contact_jacobian_.row(3 * (n + k)).dot(v_free_);
-      any_active = any_active || gap_[point] + dt * std::min(v_free_n, 0.0) <= 0.0;
+      // With no impulse the node's deformation relaxes to the offset d within the step (the
+      // -(U_prev - d)/dt term of eq. 12), so the node can touch iff the unloaded gap
+      // g - U_prev + d does (d of the last step's frames).
+      const double unloaded_gap = gap_[point] - patch.displacement[3 * k] +
+                                  (patch.has_offset ? patch.offset_contact[3 * k] : 0.0);
+      any_active = any_active || unloaded_gap + dt * std::min(v_free_n, 0.0) <= margin;
     }
     coupling::CompliantPatch& target = problem_.patches[j];
     if (!any_active) {
@@ -222,6 +276,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     }
     target.first_contact = n;
     target.n_contacts = n_nodes;
+    lap(profile_.contact_build);
     const Eigen::Matrix3d a = rct * data_.oMi[patch.body].rotation;
     for (int r = 0; r < n_nodes; ++r) {
       for (int c = 0; c < n_nodes; ++c) {
@@ -229,6 +284,12 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
             a * patch.compliance.block<3, 3>(3 * r, 3 * c) * a.transpose() / (dt * dt);
       }
     }
+    if (patch.has_offset) {
+      for (int k = 0; k < n_nodes; ++k) {
+        patch.offset_contact.segment<3>(3 * k).noalias() = a * patch.offset.segment<3>(3 * k);
+      }
+    }
+    lap(profile_.sole_update);
     for (int k = 0; k < n_nodes; ++k) {
       active_points_.push_back(patch.first_point + k);
     }
@@ -238,7 +299,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     add_point_row(point, n, 0.0);
     v_before_[point] = contact_jacobian_.row(3 * n).dot(v);
     const double v_free_n = contact_jacobian_.row(3 * n).dot(v_free_);
-    if (gap_[point] + dt * std::min(v_free_n, 0.0) <= 0.0) {
+    if (gap_[point] + dt * std::min(v_free_n, 0.0) <= margin) {
       active_points_.push_back(point);
       ++n;
     }
@@ -257,23 +318,30 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       const int point = active_points_[k];
       const double gap = gap_[point];
       // An impact with restitution follows Newton's law alone (Moreau-Jean); otherwise a
-      // contact activated before touching may close its gap within the step.
-      const coupling::NormalBiasParameters& nb = parameters_.normal_bias;
-      const double v_n = v_before_[point];
-      const bool bouncing =
-          nb.restitution > 0.0 && v_n < 0.0 && std::abs(v_n) >= nb.restitution_threshold;
+      // contact activated before touching may close its gap within the step, no more:
+      // normal_bias returns gap/dt for gap > 0 (adding it again let a landing sink by the gap).
       problem_.normal_bias[k] =
-          coupling::normal_bias(gap, v_n, dt, nb) + (!bouncing && gap > 0.0 ? gap / dt : 0.0);
+          coupling::normal_bias(gap, v_before_[point], dt, parameters_.normal_bias);
       problem_.friction[k] = points_[point].friction;
       impulses_.segment<3>(3 * k) = point_impulse_[point];
     }
+    lap(profile_.contact_build);
     for (std::size_t j = 0; j < patches_.size(); ++j) {
       if (problem_.patches[j].n_contacts > 0) {
         coupling::add_deformation_rate_term(problem_.patches[j], patches_[j].displacement, dt,
                                             problem_);
+        if (patches_[j].has_offset) { // -(U_prev - d)/dt
+          problem_.free_velocity.segment(3 * problem_.patches[j].first_contact,
+                                         patches_[j].offset_contact.size()) +=
+              patches_[j].offset_contact / dt;
+        }
       }
     }
+    lap(profile_.sole_update);
     report.solver = solver_.solve(problem_, parameters_.solver, impulses_);
+    lap(profile_.contact_solve);
+    ++profile_.n_solves;
+    profile_.n_solve_rows += 3 * n;
     if (report.solver.status == coupling::SolverStatus::non_finite) {
       throw std::runtime_error("Stepper::step: the contact solver produced non-finite impulses "
                                "with " +
@@ -290,6 +358,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     report.solver.status = coupling::SolverStatus::converged;
     v = v_free_;
   }
+  lap(profile_.dynamics);
   for (auto& impulse : point_impulse_) {
     impulse.setZero();
   }
@@ -299,13 +368,18 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   for (std::size_t j = 0; j < patches_.size(); ++j) {
     if (problem_.patches[j].n_contacts > 0) {
       coupling::patch_displacement(problem_.patches[j], impulses_, dt, patches_[j].displacement);
+      if (patches_[j].has_offset) {
+        patches_[j].displacement += patches_[j].offset_contact;
+      }
     }
   }
+  lap(profile_.sole_update);
   if (!v.allFinite()) {
     throw std::runtime_error(
         "Stepper::step: non-finite velocity after the step (dt = " + std::to_string(dt) + " s)");
   }
   integrate(model_, q, v, dt, q);
+  lap(profile_.dynamics);
   return report;
 }
 

@@ -15,10 +15,9 @@
 //
 // Contact problem (coupling/contact/contact_problem.h), contact frame rows (n = +z, t1 = +x,
 // t2 = +y): J_c the point Jacobians in that order, G = J_c L^-T (so G G^T = J_c M_eff^-1 J_c^T),
-// v_free,c = J_c v_free, b from coupling::normal_bias (restitution e v_n^-, position
-// correction) plus, unless the contact bounces (e > 0 and |v_n^-| >= restitution_threshold),
-// gap/dt for a contact activated before touching (gap > 0), so that it lands on the plane
-// instead of stopping above it.
+// v_free,c = J_c v_free, b = coupling::normal_bias: restitution e v_n^- for a bouncing impact,
+// gap/dt for a contact activated before touching (gap > 0, so that it lands on the plane
+// instead of stopping above it, and no deeper), else the position correction.
 // A point is active when its gap g (z of the point) satisfies g + dt min(v_free,n, 0) <= 0.
 // A compliant patch (a condensed sole, nodes fixed to a body, compliance C in the body frame)
 // enters as a whole when any of its nodes is active; its block is A C A^T / dt^2 per node pair
@@ -57,8 +56,25 @@ struct StepperParameters {
   /// Throw std::runtime_error when the contact solver does not converge (default: only count
   /// it in StepReport; non-finite results always throw).
   bool throw_if_not_converged = false;
+  /// m, >= 0 (infinity allowed): a candidate point (or a patch, by any node) enters the
+  /// contact problem when g + dt min(v_free,n, 0) <= contact_margin, g the gap (for a patch
+  /// node the unloaded one, g - U_prev + d). 0: only what can touch within the step;
+  /// infinity: every candidate (the full problem, for tests).
+  double contact_margin = 0.0;
   /// Throws std::invalid_argument naming the field, value and range.
   void validate() const;
+};
+
+/// Wall seconds (steady_clock) spent in the phases of Stepper::step since the last reset.
+struct StepProfile {
+  double dynamics = 0;      ///< CRBA, RNEA, Cholesky of M_eff, v_free, v+, integration
+  double contact_build = 0; ///< candidate Jacobians and gaps, G = J L^-T, v_free,c, bias
+  double sole_update = 0;   ///< patch blocks A C A^T / dt^2, deformation-rate term, U_c
+  double contact_solve = 0; ///< coupling::ContactSolver::solve
+  long n_steps = 0;
+  long n_solves = 0;     ///< steps with at least one active contact
+  long n_solve_rows = 0; ///< sum over solves of 3 n_contacts
+  double total() const { return dynamics + contact_build + sole_update + contact_solve; }
 };
 
 /// What happened in one step.
@@ -112,7 +128,18 @@ public:
   const Eigen::VectorXd& patch_displacement(int patch) const {
     return patches_[patch].displacement;
   }
+  /// Replaces the compliance C of patch @p patch by @p compliance (3n x 3n, m/N, body frame,
+  /// symmetric) and sets the displacement offset d to @p offset (3n, m, body frame): the node
+  /// displacements become U = C F + d, an affine (e.g. tangent, coupling/
+  /// nonlinear_condensed_sole.h) sole model; d = 0 after add_compliant_patch. In eq. 12 the
+  /// deformation-rate term becomes -(U_prev - d)/dt. Between steps only; does not allocate.
+  /// Throws std::invalid_argument on an index, size, asymmetry or non-finite value.
+  void set_patch_compliance(int patch, const Eigen::Ref<const Eigen::MatrixXd>& compliance,
+                            const Eigen::Ref<const Eigen::VectorXd>& offset);
   double time_step() const { return parameters_.time_step; }
+  /// Accumulated phase timings (a few clock reads per step, no allocation).
+  const StepProfile& profile() const { return profile_; }
+  void reset_profile() { profile_ = StepProfile{}; }
 
 private:
   struct ContactPoint {
@@ -125,9 +152,12 @@ private:
     Eigen::Matrix3Xd nodes;
     Eigen::MatrixXd compliance; // body frame
     double friction;
-    int first_point;              // index of its first node in points_
-    Eigen::VectorXd displacement; // U_c of the last step, contact frames
-    Eigen::MatrixXd parked;       // holds compliance_over_dt storage while inactive
+    int first_point;                // index of its first node in points_
+    Eigen::VectorXd displacement;   // U_c of the last step, contact frames
+    Eigen::MatrixXd parked;         // holds compliance_over_dt storage while inactive
+    Eigen::VectorXd offset;         // d (body frame), set_patch_compliance
+    Eigen::VectorXd offset_contact; // d in the contact frames of the current step
+    bool has_offset = false;
   };
 
   void resize_workspaces();
@@ -154,6 +184,7 @@ private:
   std::vector<int> active_points_;   // capacity = number of points
   coupling::ContactProblem problem_;
   coupling::ContactSolver solver_;
+  StepProfile profile_;
 };
 
 } // namespace plantar::multibody

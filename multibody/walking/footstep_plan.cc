@@ -31,6 +31,8 @@ void check_walking_parameters(const WalkingParameters& p) {
   require(p.standing_before >= 0.0, "standing_before", p.standing_before, "[0, inf) s");
   require(p.standing_after >= 0.0, "standing_after", p.standing_after, "[0, inf) s");
   require(p.step_height >= 0.0 && p.step_height <= 0.3, "step_height", p.step_height, "[0, 0.3] m");
+  require(p.ground_clearance >= 0.0 && p.ground_clearance <= 0.1, "ground_clearance",
+          p.ground_clearance, "[0, 0.1] m");
   require(p.max_step_length > 0.0, "max_step_length", p.max_step_length, "(0, inf) m");
   Footstep right = p.initial_right, left = p.initial_left;
   for (size_t i = 0; i < p.footsteps.size(); ++i) {

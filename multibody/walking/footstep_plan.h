@@ -34,6 +34,10 @@ struct WalkingParameters {
   double step_height = 0.07;                ///< swing-foot apex above the ground [m], [0, 0.3]
   double max_step_length = 0.45;            ///< longest allowed swing-foot travel [m], > 0
   bool right_foot_first = true;             ///< the right foot swings first
+  /// Height of the sole frames above the ground [m], [0, 0.1]: a sole of that thickness under
+  /// the feet. The cart-table height becomes com_height + ground_clearance (the CoM height
+  /// above the ground, where the ZMP is).
+  double ground_clearance = 0.0;
   Footstep initial_right{0.0, -0.105, 0.0}; ///< right sole at the start
   Footstep initial_left{0.0, 0.105, 0.0}; ///< left sole at the start (straight-walk tests: +-0.105)
   /// Landing placements of the successive swing feet (alternating, first = right if

@@ -126,7 +126,7 @@ WalkingPattern make_walking_pattern(const urdf::ModelInterface& model,
   WalkingPattern pattern;
   pattern.plan = make_footstep_plan(walk);
   preview.period = walk.period;
-  preview.com_height = posture.com_height;
+  preview.com_height = posture.com_height + walk.ground_clearance;
   pattern.gains = compute_preview_gains(preview);
   PostureSolver solver(model, posture);
   RobotAngles q;

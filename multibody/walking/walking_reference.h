@@ -43,9 +43,10 @@ struct WalkingPattern {
 };
 
 /// Generates the walk: ZMP reference from the footstep plan -> CoM (x, y) by preview control
-/// (preview.com_height is overwritten with posture.com_height) -> waist placed so that the
-/// whole-body CoM of the URDF model equals the CoM reference (fixed-point iteration), waist
-/// height constant, waist yaw the mean of the sole yaws -> legs by solve_leg_ik.
+/// (preview.com_height is overwritten with posture.com_height + walk.ground_clearance) -> waist
+/// placed so that the whole-body CoM of the URDF model equals the CoM reference (fixed-point
+/// iteration), waist height constant, waist yaw the mean of the sole yaws -> legs by
+/// solve_leg_ik.
 /// @throws std::runtime_error if a leg pose is out of reach or outside its joint limits (naming
 /// the joint, the time and the value), or if the CoM iteration does not converge.
 WalkingPattern make_walking_pattern(const urdf::ModelInterface& model,

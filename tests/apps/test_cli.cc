@@ -1,9 +1,12 @@
 // The plantar program as users run it: help, parameter listing, the default
 // scene, and one clear error with a non-zero exit and no output files for
 // each kind of bad scene.
+#include "apps/scene.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -41,6 +44,152 @@ TEST(Cli, Help) {
   EXPECT_EQ(run("run --help").status, 0);
   EXPECT_EQ(run("print-parameters --help").status, 0);
   EXPECT_EQ(run("frobnicate").status, 2);
+  for (const char* command : {"sweep", "plot"}) {
+    const auto h = run(std::string(command) + " --help");
+    EXPECT_EQ(h.status, 0) << command;
+    EXPECT_NE(h.output.find(std::string("plantar ") + command), std::string::npos) << command;
+    EXPECT_NE(help.output.find(std::string("plantar ") + command), std::string::npos) << command;
+  }
+  EXPECT_EQ(run("plot").status, 2);
+}
+
+/// The default scene is the walking comparison: scenes/walk.prm's parameters, all three forms.
+TEST(Cli, DefaultSceneIsTheWalkComparisonOfWalkPrm) {
+  dealii::ParameterHandler default_prm, walk_prm;
+  const auto source = std::string(PLANTAR_SOURCE_DIR) + "/scenes/";
+  const auto comparison = plantar::app::load_scene(source + "default.prm", default_prm);
+  plantar::app::load_scene(source + "walk.prm", walk_prm);
+  ASSERT_EQ(comparison.robot.foot_forms.size(), 3u);
+  EXPECT_EQ(comparison.type, "walk");
+  default_prm.enter_subsection("Robot");
+  default_prm.set("Foot forms", "");
+  default_prm.leave_subsection();
+  std::ostringstream a, b;
+  default_prm.print_parameters(a, dealii::ParameterHandler::PRM);
+  walk_prm.print_parameters(b, dealii::ParameterHandler::PRM);
+  EXPECT_EQ(a.str(), b.str()) << "scenes/default.prm must keep scenes/walk.prm's values";
+}
+
+/// PNG files: signature and a non-trivial size.
+void expect_png(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  char signature[8] = {};
+  in.read(signature, 8);
+  EXPECT_EQ(std::string(signature, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << file;
+  EXPECT_TRUE(std::filesystem::exists(file) && std::filesystem::file_size(file) > 1000) << file;
+}
+
+double summary_value(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(name + ",", 0) == 0)
+      return std::stod(line.substr(name.size() + 1));
+  ADD_FAILURE() << file << " lacks " << name;
+  return NAN;
+}
+
+/// A comparison of two forms on a 0.4 s drop where the compliant ankle is made to fail (a
+/// 1 N/m ankle spring without damper: the robot falls through its ankles onto the Fall height).
+TEST(Cli, ComparisonRunsEachFormReportsFailuresAndPlots) {
+  const std::string drop = std::string(PLANTAR_SOURCE_DIR) + "/scenes/drop.prm";
+  std::ifstream in(drop);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string common = text.str() + "subsection Simulation\n  set Duration = 0.4\nend\n" +
+                             "subsection Output\n  set Write VTU = false\nend\n" +
+                             "subsection Robot\n  set Ankle linear stiffness = 1\n" +
+                             "  set Ankle linear damping = 0\n";
+  const auto scene =
+      write_scene("comparison", common + "  set Foot forms = rigid, compliant ankle\nend\n");
+  const auto out = std::filesystem::current_path() / "out-comparison";
+  std::filesystem::remove_all(out);
+  const auto result = run("run " + scene.string() + " -o " + out.string());
+  std::printf("%s", result.output.c_str());
+  EXPECT_EQ(result.status, 1);
+  for (const char* part : {"foot forms failed", "compliant ankle", "fell", "FAILED"})
+    EXPECT_NE(result.output.find(part), std::string::npos) << part;
+  EXPECT_TRUE(std::filesystem::exists(out / "parameters.prm"));
+  EXPECT_TRUE(std::filesystem::exists(out / "summary.txt"));
+  EXPECT_TRUE(std::filesystem::exists(out / "compliant_ankle" / "failure.txt"));
+  EXPECT_FALSE(std::filesystem::exists(out / "compliant_ankle" / "summary.csv"));
+
+  // The failed form's CSV stops at the fall: free fall of the waist from its start height to
+  // Fall height = 0.4 m, t = sqrt(2 (z0 - 0.4) / g), the feet's stop being negligible.
+  std::ifstream waist(out / "compliant_ankle" / "failed" / "waist.csv");
+  std::string line, first, last;
+  std::getline(waist, line);
+  std::getline(waist, first);
+  last = first;
+  while (std::getline(waist, line))
+    last = line;
+  const double z0 =
+      std::stod(first.substr(first.find(',', first.find(',', first.find(',') + 1) + 1) + 1));
+  const double t_end = std::stod(last.substr(0, last.find(',')));
+  const double t_fall = std::sqrt(2 * (z0 - 0.4) / 9.81);
+  std::printf("compliant ankle fell at t = %.3f s; free fall from z0 = %.4f m: %.3f s\n", t_end, z0,
+              t_fall);
+  EXPECT_NEAR(t_end, t_fall, 0.05 * t_fall);
+
+  // The rigid form equals a single run of the same scene with Foot form = rigid.
+  const auto single = write_scene("comparison-rigid", common + "  set Foot form = rigid\nend\n");
+  const auto single_out = std::filesystem::current_path() / "out-comparison-rigid";
+  std::filesystem::remove_all(single_out);
+  const auto single_result = run("run " + single.string() + " -o " + single_out.string());
+  ASSERT_EQ(single_result.status, 0) << single_result.output;
+  const double a = summary_value(out / "rigid" / "summary.csv", "max_waist_acceleration_z");
+  const double b = summary_value(single_out / "summary.csv", "max_waist_acceleration_z");
+  std::printf("rigid drop peak: comparison %.17g, single run %.17g m/s^2\n", a, b);
+  EXPECT_NEAR(a, b, 1e-12 * b);
+  EXPECT_GT(a, 10.0); // an impact, not the 9.81 of free fall
+
+  // Figures of both forms (the failed one up to its failure), and of the single run.
+  for (const char* name : {"waist_z.png", "waist_velocity_z.png", "waist_acceleration_z.png",
+                           "right_knee_torque.png"}) {
+    expect_png(out / "figures" / name);
+    expect_png(single_out / "figures" / name);
+  }
+  // plantar plot redraws them; a directory without CSV gives one message and exit 1.
+  std::filesystem::remove_all(out / "figures");
+  const auto plot = run("plot " + out.string());
+  EXPECT_EQ(plot.status, 0) << plot.output;
+  expect_png(out / "figures" / "waist_acceleration_z.png");
+  const auto empty = std::filesystem::current_path() / "out-empty";
+  std::filesystem::create_directories(empty);
+  const auto no_csv = run("plot " + empty.string());
+  EXPECT_EQ(no_csv.status, 1);
+  EXPECT_NE(no_csv.output.find("no CSV outputs in '" + empty.string() + "'"), std::string::npos)
+      << no_csv.output;
+  EXPECT_FALSE(std::filesystem::exists(empty / "figures"));
+}
+
+/// The progress bar is drawn on a terminal only: through a pipe the output has no carriage
+/// return; under `script` (a pseudo-terminal) it shows the simulated time and real-time factor.
+TEST(Cli, ProgressBarOnlyOnATerminal) {
+  const std::string drop = std::string(PLANTAR_SOURCE_DIR) + "/scenes/drop.prm";
+  std::ifstream in(drop);
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto scene =
+      write_scene("progress", text.str() + "subsection Simulation\n  set Duration = 0.3\nend\n"
+                                           "subsection Output\n  set Write VTU = false\nend\n");
+  const auto out = std::filesystem::current_path() / "out-progress";
+  const auto piped = run("run " + scene.string() + " -o " + out.string() + " --no-figures");
+  ASSERT_EQ(piped.status, 0) << piped.output;
+  EXPECT_EQ(piped.output.find('\r'), std::string::npos);
+  EXPECT_EQ(piped.output.find("real-time factor"), std::string::npos);
+  // The same run on a pseudo-terminal.
+  const std::string command = "script -qfec '" + std::string(PLANTAR_BINARY) + " run " +
+                              scene.string() + " -o " + out.string() +
+                              " --no-figures' /dev/null 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer;
+  while (std::fgets(buffer.data(), buffer.size(), pipe))
+    output += buffer.data();
+  EXPECT_EQ(::pclose(pipe), 0) << output;
+  EXPECT_NE(output.find("real-time factor"), std::string::npos) << output;
+  EXPECT_NE(output.find("t = 0.300 / 0.300 s"), std::string::npos) << output;
 }
 
 TEST(Cli, PrintParametersListsDefaultsRangesHelp) {
@@ -59,11 +208,11 @@ TEST(Cli, PrintParametersListsDefaultsRangesHelp) {
   EXPECT_EQ(result.status, 0) << result.output;
 }
 
-TEST(Cli, DefaultSceneWritesItsOutputs) {
-  const auto out = std::filesystem::current_path() / "out-default";
+TEST(Cli, StaticSoleSceneWritesItsOutputs) {
+  const auto out = std::filesystem::current_path() / "out-static-sole";
   std::filesystem::remove_all(out);
   const auto result =
-      run("run " + std::string(PLANTAR_SOURCE_DIR) + "/scenes/default.prm -o " + out.string());
+      run("run " + std::string(PLANTAR_SOURCE_DIR) + "/scenes/static_sole.prm -o " + out.string());
   ASSERT_EQ(result.status, 0) << result.output;
   EXPECT_NE(result.output.find("maximum displacement"), std::string::npos);
   for (const char* file : {"parameters.prm", "summary.txt", "sole.vtu"})
@@ -167,6 +316,18 @@ TEST(Cli, BadScenesGiveOneClearErrorAndNoOutput) {
        "subsection Sole\n  set Element degree = 3\nend\n",
        {"Element degree", "3", "Integer range 1...2"}},
       {"syntax", "garbage line\n", {"garbage line", "could not be parsed"}},
+      {"forms",
+       "subsection Robot\n  set Foot forms = rigid, paper\nend\n",
+       {"Foot forms", "rigid, paper", "rigid|compliant ankle|fem sole"}},
+      {"urdf",
+       "subsection Robot\n  set URDF file = nowhere.urdf\nend\n",
+       {"Robot/URDF file", "nowhere.urdf", "no such file"}},
+      {"sweep-e",
+       "subsection Sweep\n  set Young's moduli = 1e6, -2\nend\n",
+       {"Sweep/Young's moduli", "-2", "> 0"}},
+      {"sweep-dt",
+       "subsection Sweep\n  set Time steps = 0.001, 0.5\nend\n",
+       {"Sweep/Time steps", "0.5", "(0, 0.01]"}},
   };
   for (const auto& c : cases) {
     const auto scene = write_scene(std::string("bad-") + c.name, c.text);

@@ -100,19 +100,14 @@ TEST_P(Humanoid, LeanReachesTheCommandedRollRepeatable) {
   EXPECT_EQ(first.q(), second.q());
 }
 
-// With the public HRP-2 ankle values (600 N m/rad) the compliant ankle is
-// barely stiffer than the robot's toppling stiffness m g h (about 455 N m/rad):
-// played open loop (no stabilizer) the walk tips over sideways after the
-// second step (docs/scenes.md). The compliant-ankle walk is therefore
-// checked with a stiffer roll/pitch spring, 3000 N m/rad.
+// The scene's own parameters in every form (the compliant ankle with the public 600 N m/rad
+// and the feed-forward deflection compensation of scenes/walk.prm; docs/walking.md).
 TEST_P(Humanoid, TwoStepWalkCompletes) {
   std::vector<std::pair<std::string, std::string>> overrides = {
       {"Robot/Foot form", GetParam()},
       {"Walking/Footsteps", "0.135, -0.105, 0; 0.135, 0.105, 0"},
       {"Walking/Standing before", "0.3"},
       {"Walking/Standing after", "0.5"}};
-  if (std::string(GetParam()) == "compliant ankle")
-    overrides.push_back({"Robot/Ankle angular stiffness", "3000"});
   const Scene scene = load_humanoid_scene("walk", overrides);
   HumanoidSimulation sim(scene);
   sim.run();

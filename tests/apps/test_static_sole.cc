@@ -14,7 +14,7 @@ namespace {
 
 TEST(StaticSole, DefaultSceneAgainstBounds) {
   dealii::ParameterHandler prm;
-  const Scene scene = load_scene(std::string(PLANTAR_SOURCE_DIR) + "/scenes/default.prm", prm);
+  const Scene scene = load_scene(std::string(PLANTAR_SOURCE_DIR) + "/scenes/static_sole.prm", prm);
   const auto out = std::filesystem::current_path() / "out-static";
   const auto result = run_static_sole(scene, out);
   const double E = 4e6, nu = 0.3, t = scene.sole.thickness;

@@ -1,0 +1,64 @@
+#pragma once
+// The ParaView series of a humanoid run: one frame per call of write(), in the world frame.
+//
+// <directory>/vtk/links_NNNNNN.vtu        the robot's links (scene_vtk_links.h)
+// <directory>/vtk/sole_{right,left}_NNNNNN.vtu   (Foot form = fem sole) each sole, its points
+//     at their undeformed positions x = R_s X + p_s (X: mesh coordinates, R_s, p_s: the
+//     r_sole/l_sole frame in the world), with point data
+//       displacement          u = R_s u_sole (m, world), u_sole recovered from the contact
+//                             nodes: u_n = -K_nn^-1 K_nc u_c (coupling/condensed_sole.h)
+//       contact_displacement  the stepper's patch displacement u_c (m, world) on the bottom
+//                             nodes, 0 elsewhere (equals displacement there)
+//       contact_force         f_k = p_k / dt (N, world, ground on sole) on the bottom nodes
+//       contact_pressure      f_z,k / a_k (Pa), a_k = int_bottom N_k ds the node's consistent
+//                             area (0 where a_k <= 0, e.g. vertices of P2 triangles)
+//       contact_node          1 on the bottom (contact) nodes, 0 elsewhere
+//       strain, stress (sole frame, Pa), von_mises (Pa)        (fem/field_output.h)
+//     and cell data material_id. "Warp By Vector" with displacement shows the deformed sole.
+// <directory>/{links,sole_right,sole_left}.pvd   one time series each
+// <directory>/scene.pvd                          all parts (0 links, 1 right, 2 left sole)
+// The .pvd files are rewritten (atomically) at every frame: a run that fails keeps a
+// readable series of the frames written so far. Frames allocate (output steps only).
+
+#include "apps/humanoid_simulation.h"
+#include "apps/scene_vtk_links.h"
+#include "multibody/data.h"
+
+#include <deal.II/lac/vector.h>
+
+#include <array>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace plantar::app {
+
+class SceneVtkWriter {
+public:
+  /// Prepares the link shapes (@p urdf_file: the model's URDF; @p stick_radius, m, > 0) and
+  /// the sole workspaces of @p simulation, and creates <directory>/vtk.
+  SceneVtkWriter(const HumanoidSimulation& simulation, const std::filesystem::path& urdf_file,
+                 double stick_radius, const std::filesystem::path& directory);
+  ~SceneVtkWriter();
+
+  /// Writes the frame of @p simulation's current state (time simulation.time()).
+  void write(const HumanoidSimulation& simulation);
+  int n_frames() const { return static_cast<int>(times_.size()); }
+
+private:
+  void write_sole(const HumanoidSimulation& simulation, int foot,
+                  const std::filesystem::path& path);
+  void write_pvd() const;
+
+  std::filesystem::path directory_;
+  std::vector<LinkShape> shapes_;
+  multibody::Data data_;
+  dealii::Vector<double> displacement_, contact_displacement_, force_;
+  dealii::Vector<double> pressure_; // (contact_pressure, contact_node flag, 0) per node
+  Eigen::VectorXd contact_u_;       // 3 n_c, sole frame
+  Eigen::VectorXd area_;            // n_c, consistent node areas (m^2)
+  std::vector<double> times_;
+};
+
+} // namespace plantar::app

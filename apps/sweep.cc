@@ -1,0 +1,288 @@
+#include "apps/sweep.h"
+
+#include "apps/humanoid_job.h"
+#include "fem/atomic_file.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fcntl.h>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace plantar::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string number(double value) {
+  std::ostringstream out;
+  out << std::setprecision(17) << value;
+  return out.str();
+}
+
+std::string short_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+/// The complete scene file of @p point: @p scene_file with the point's form, time step and
+/// material, absolute model and mesh paths, and no Sweep or Foot forms entries.
+std::string point_scene(const fs::path& scene_file, const Scene& scene, const SweepPoint& point) {
+  dealii::ParameterHandler prm;
+  Scene::declare(prm);
+  prm.parse_input(scene_file.string(), "", false, true);
+  prm.enter_subsection("Robot");
+  prm.set("Foot form", to_string(point.form));
+  prm.set("Foot forms", "");
+  prm.set("URDF file", fs::absolute(scene.robot.urdf_file).string());
+  prm.leave_subsection();
+  prm.enter_subsection("Sole");
+  prm.set("Geometry file", fs::absolute(scene.sole.geometry_file).string());
+  prm.set("Materials", replace_material(prm.get("Materials"), point.youngs_modulus,
+                                        point.poisson_ratio, point.has_poisson_ratio));
+  prm.leave_subsection();
+  prm.enter_subsection("Simulation");
+  prm.set("Time step", number(point.time_step));
+  prm.leave_subsection();
+  prm.enter_subsection("Output");
+  prm.set("Write VTU", false); // a sweep point needs its summary only
+  prm.leave_subsection();
+  prm.enter_subsection("Sweep");
+  for (const char* entry : {"Young's moduli", "Poisson ratios", "Time steps"})
+    prm.set(entry, "");
+  prm.leave_subsection();
+  std::ostringstream out;
+  prm.print_parameters(out, dealii::ParameterHandler::PRM);
+  return out.str();
+}
+
+/// Last line of @p log starting with "plantar: error:", or its last line.
+std::string failure_message(const fs::path& log) {
+  std::ifstream in(log);
+  std::string line, last, error;
+  while (std::getline(in, line)) {
+    if (line.find("plantar: error:") == 0)
+      error = line.substr(16);
+    if (!line.empty())
+      last = line;
+  }
+  return error.empty() ? last : error;
+}
+
+pid_t start_point(const fs::path& executable, const fs::path& directory) {
+  const fs::path scene = directory / "scene.prm", log = directory / "log.txt";
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t pid = ::fork();
+  if (pid < 0)
+    throw std::runtime_error("sweep: cannot start a process");
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      ::dup2(fd, STDOUT_FILENO);
+      ::dup2(fd, STDERR_FILENO);
+      ::close(fd);
+    }
+    ::execl(executable.c_str(), executable.c_str(), "run", scene.c_str(), "-o", directory.c_str(),
+            "--no-figures", static_cast<char*>(nullptr));
+    std::fprintf(stderr, "plantar: error: cannot run '%s'\n", executable.c_str());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+} // namespace
+
+std::string replace_material(const std::string& materials, double youngs_modulus,
+                             double poisson_ratio, bool set_nu) {
+  std::string result = materials;
+  const std::string number_pattern = "[-+0-9.eE]+";
+  if (youngs_modulus > 0)
+    result = std::regex_replace(result, std::regex("\\bE\\s*=\\s*" + number_pattern),
+                                "E=" + number(youngs_modulus));
+  if (set_nu)
+    result = std::regex_replace(result, std::regex("\\bnu\\s*=\\s*" + number_pattern),
+                                "nu=" + number(poisson_ratio));
+  return result;
+}
+
+std::vector<SweepPoint> sweep_points(const Scene& scene) {
+  std::vector<FootForm> forms = scene.robot.foot_forms;
+  if (forms.empty())
+    forms.push_back(scene.robot.foot_form);
+  std::vector<double> steps = scene.sweep.time_steps;
+  if (steps.empty())
+    steps.push_back(scene.simulation.time_step);
+  std::vector<double> moduli = scene.sweep.youngs_moduli, ratios = scene.sweep.poisson_ratios;
+  if (moduli.empty())
+    moduli.push_back(0);
+  std::vector<SweepPoint> points;
+  for (const FootForm form : forms)
+    for (const double dt : steps) {
+      SweepPoint point;
+      point.form = form;
+      point.time_step = dt;
+      const std::string base = form_directory(form) + "_dt" + short_number(dt * 1e3) + "ms";
+      if (form != FootForm::fem_sole) {
+        point.id = base;
+        points.push_back(point);
+        continue;
+      }
+      for (const double e : moduli) {
+        point.youngs_modulus = e;
+        const std::string with_e = e > 0 ? base + "_E" + short_number(e * 1e-6) + "MPa" : base;
+        if (ratios.empty()) {
+          point.id = with_e;
+          points.push_back(point);
+        }
+        for (const double nu : ratios) {
+          point.poisson_ratio = nu;
+          point.has_poisson_ratio = true;
+          point.id = with_e + "_nu" + short_number(nu);
+          points.push_back(point);
+        }
+      }
+    }
+  return points;
+}
+
+int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& output, int jobs,
+              const fs::path& executable) {
+  if (scene.type == "static sole")
+    throw std::invalid_argument("Scene type = static sole: plantar sweep needs a humanoid scene "
+                                "(stand, drop, lean or walk)");
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<SweepPoint> points = sweep_points(scene);
+  const auto done = [&](const SweepPoint& p) {
+    const fs::path dir = output / "points" / p.id;
+    return fs::exists(dir / "summary.csv") || fs::exists(dir / "failure.txt");
+  };
+
+  // Parameters of the sweep, then the points' scene files.
+  {
+    std::ostringstream text;
+    dealii::ParameterHandler prm;
+    Scene::declare(prm);
+    prm.parse_input(scene_file.string(), "", false, true);
+    prm.print_parameters(text, dealii::ParameterHandler::PRM);
+    fem::write_file_atomically(output / "parameters.prm",
+                               [&](std::ostream& os) { os << text.str(); });
+  }
+  std::vector<const SweepPoint*> todo;
+  int n_done_before = 0;
+  for (const SweepPoint& p : points) {
+    if (done(p)) {
+      ++n_done_before;
+      continue;
+    }
+    const std::string text = point_scene(scene_file, scene, p);
+    fem::write_file_atomically(output / "points" / p.id / "scene.prm",
+                               [&](std::ostream& os) { os << text; });
+    todo.push_back(&p);
+  }
+  std::cout << "sweep: " << points.size() << " points, " << n_done_before << " already done, "
+            << todo.size() << " to run with " << jobs << " process" << (jobs > 1 ? "es" : "")
+            << "\n"
+            << std::flush;
+
+  // Child processes, up to `jobs` at a time.
+  std::map<pid_t, const SweepPoint*> running;
+  std::size_t next = 0;
+  int n_finished = 0;
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && static_cast<int>(running.size()) < jobs) {
+      const SweepPoint* p = todo[next++];
+      running[start_point(executable, output / "points" / p->id)] = p;
+    }
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0)
+      throw std::runtime_error("sweep: waitpid failed");
+    const auto it = running.find(pid);
+    if (it == running.end())
+      continue;
+    const SweepPoint& p = *it->second;
+    running.erase(it);
+    ++n_finished;
+    const fs::path dir = output / "points" / p.id;
+    std::cout << "[" << n_finished << "/" << todo.size() << "] " << p.id << ": ";
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(dir / "summary.csv")) {
+      std::cout << "max |a_z| "
+                << read_summary_value(dir / "summary.csv", "max_waist_acceleration_z")
+                << " m/s^2, roll difference "
+                << read_summary_value(dir / "summary.csv", "roll_difference_deg") << " deg\n";
+    } else if (WIFEXITED(status)) {
+      const std::string message = failure_message(dir / "log.txt");
+      fem::write_file_atomically(dir / "failure.txt",
+                                 [&](std::ostream& os) { os << message << "\n"; });
+      std::cout << "FAILED (exit " << WEXITSTATUS(status) << "): " << message << "\n";
+    } else {
+      std::cout << "killed by a signal; rerun the sweep to redo it\n";
+    }
+    std::cout << std::flush;
+  }
+
+  // Gather.
+  std::ostringstream table, failures;
+  table << "id,foot_form,time_step,E,nu,status,max_waist_acceleration_z,roll_difference_deg,"
+           "max_roll_difference_deg,n_steps,mean_solver_iterations,n_unconverged,"
+           "loop_wall_time\n"
+        << std::setprecision(17);
+  int n_failed = 0, n_missing = 0;
+  for (const SweepPoint& p : points) {
+    const fs::path dir = output / "points" / p.id;
+    table << p.id << "," << to_string(p.form) << "," << p.time_step << ",";
+    if (p.youngs_modulus > 0)
+      table << p.youngs_modulus;
+    table << ",";
+    if (p.has_poisson_ratio)
+      table << p.poisson_ratio;
+    table << ",";
+    if (fs::exists(dir / "summary.csv")) {
+      const fs::path s = dir / "summary.csv";
+      table << "ok";
+      for (const char* name :
+           {"max_waist_acceleration_z", "roll_difference_deg", "max_roll_difference_deg", "n_steps",
+            "mean_solver_iterations", "n_unconverged", "loop_wall_time"})
+        table << "," << read_summary_value(s, name);
+      table << "\n";
+      continue;
+    }
+    table << (fs::exists(dir / "failure.txt") ? "failed" : "missing") << ",,,,,,,\n";
+    if (fs::exists(dir / "failure.txt")) {
+      ++n_failed;
+      std::ifstream in(dir / "failure.txt");
+      std::string message;
+      std::getline(in, message);
+      failures << "  " << p.id << ": " << message << "\n";
+    } else {
+      ++n_missing;
+    }
+  }
+  fem::write_file_atomically(output / "sweep.csv", [&](std::ostream& os) { os << table.str(); });
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream summary;
+  summary << "sweep: " << scene_file.string() << " (" << scene.type << "), " << points.size()
+          << " points: " << n_done_before << " done before, " << todo.size() << " run now; "
+          << n_failed << " failed, " << n_missing << " missing\n"
+          << "wall time " << wall << " s with " << jobs << " process(es)\n";
+  if (n_failed)
+    summary << "failed points:\n" << failures.str();
+  fem::write_file_atomically(output / "summary.txt",
+                             [&](std::ostream& os) { os << summary.str(); });
+  std::cout << summary.str() << std::flush;
+  return n_failed || n_missing ? 1 : 0;
+}
+
+} // namespace plantar::app

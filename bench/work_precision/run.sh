@@ -1,0 +1,26 @@
+#!/bin/sh
+# The work-precision study in one command (issue 8):
+#   bench/work_precision/run.sh [BUILD_DIR] [OUT_DIR] [extra work_precision options]
+# Builds the bench, runs it on scenes/drop.prm and scenes/walk.prm pinned to one core
+# (taskset -c 1 when available), writes OUT_DIR/work_precision.csv, the PNG plots and the
+# target runs (OUT_DIR/targets_*).
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:-$root/build}
+out=${2:-$build/work_precision}
+[ $# -ge 2 ] && shift 2 || shift $#
+cmake --build "$build" --target work_precision -j2
+pin=""
+command -v taskset >/dev/null 2>&1 && pin="taskset -c 1"
+export PLANTAR_MESH_CACHE=${PLANTAR_MESH_CACHE:-$build/mesh-cache}
+bench="$build/bench/work_precision/work_precision"
+# The sweeps (walk: its first 1.5 s, as in docs/performance.md).
+$pin "$bench" "$root/scenes/drop.prm" "$root/scenes/walk.prm" --out "$out" --repeat 2 \
+  --duration-walk 1.5 "$@" | tee "$out.txt"
+/usr/bin/python3 "$here/plot.py" "$out"
+# The targets: the whole 8 s walk at the scene setting and at the fast setting (+ rigid feet).
+$pin "$bench" "$root/scenes/walk.prm" --out "$out/targets_scene" --base-only --repeat 2 |
+  tee "$out/targets_scene.txt"
+$pin "$bench" "$here/drop_fast.prm" "$here/walk_fast.prm" --out "$out/targets_fast" --base-only \
+  --repeat 2 | tee "$out/targets_fast.txt"

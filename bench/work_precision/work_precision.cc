@@ -1,0 +1,344 @@
+// Work-precision study of the humanoid scenes (issue 8): speed against error.
+//
+//   work_precision SCENE.prm [SCENE.prm ...] --out DIR [--repeat R] [--duration-drop S]
+//                  [--duration-walk S] [--base-only]
+//
+// For each scene (run with Robot/Foot form = fem sole), one knob at a time is varied from the
+// scene's own setting, the others kept: sole mesh size, element degree, time step, contact
+// solver tolerance, sole model (reduced patches nx x ny, full). Each knob's finest value is
+// that knob's reference. Errors against it:
+//   e_a  |max |a_z,waist| - ref| / ref                   (the paper's criterion)
+//   e_u  |max normal sole deformation - ref| / ref       (max over nodes and time)
+//   e_p  max_w |P_w - P_w,ref| / max_w |P_w,ref|, P_w the vertical contact impulse summed
+//        over windows of the coarsest time step (the contact impulse per step, dt-independent)
+// Cost: loop wall seconds per simulated second, split into the stepper's phases
+// (multibody::StepProfile) and "other" (reference, waist figures, CSV rows). One rigid-foot run
+// gives the rigid cost. Each configuration is run R times, the minimum wall time kept; the
+// loop's process CPU time (std::clock) is recorded too, less sensitive to a loaded machine,
+// and the phase split is the steady_clock one.
+// The dense-operator bandwidth check: time per contact solve against one read pass over the
+// same number of bytes (the active patch blocks and G), measured here.
+// Writes DIR/work_precision.csv and prints the table. Never passes or fails.
+
+#include "apps/humanoid_simulation.h"
+#include "apps/scene.h"
+#include "fem/exception_text.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+using namespace plantar;
+using namespace plantar::app;
+
+namespace {
+
+struct Variant {
+  std::string knob, value;
+  std::function<void(Scene&)> apply;
+  double time_step = 0; // filled from the scene
+};
+
+struct Result {
+  std::string scene, knob, value, status = "ok";
+  bool reference = false;
+  double dt = 0, simulated = 0, wall = std::numeric_limits<double>::infinity(), setup = 0;
+  double cpu = std::numeric_limits<double>::infinity(); // process CPU seconds of the loop
+  multibody::StepProfile profile;
+  int contacts_per_foot = 0, max_contacts = 0;
+  double mean_iterations = 0;
+  double peak_az = 0, max_deformation = 0;
+  std::vector<double> impulse; // vertical impulse per step, N s
+  double e_a = NAN, e_u = NAN, e_p = NAN;
+  double solve_time = NAN, pass_time = NAN, operator_bytes = 0;
+};
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// Minimum time (s) of one read pass over @p bytes (sum of doubles), after a warm-up.
+double read_pass_time(double bytes) {
+  const auto n = static_cast<std::size_t>(std::max(1.0, bytes / 8));
+  std::vector<double> buffer(n, 1.0);
+  volatile double sink = 0;
+  double best = 1e9;
+  const int inner = std::max<int>(1, static_cast<int>(2e6 / n));
+  for (int r = 0; r < 20; ++r) {
+    const double t0 = now();
+    for (int i = 0; i < inner; ++i) {
+      double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+      std::size_t k = 0;
+      for (; k + 4 <= n; k += 4) {
+        s0 += buffer[k];
+        s1 += buffer[k + 1];
+        s2 += buffer[k + 2];
+        s3 += buffer[k + 3];
+      }
+      for (; k < n; ++k)
+        s0 += buffer[k];
+      sink = sink + s0 + s1 + s2 + s3;
+      buffer[i % n] += 1e-300; // keep the loop from being hoisted
+    }
+    best = std::min(best, (now() - t0) / inner);
+  }
+  return best;
+}
+
+void run_one(const Scene& scene, Result& result, int repeat) {
+  for (int r = 0; r < repeat; ++r) {
+    try {
+      HumanoidSimulation simulation(scene);
+      const bool fem = scene.robot.foot_form == FootForm::fem_sole;
+      const double dt = scene.simulation.time_step;
+      std::vector<double> impulse;
+      impulse.reserve(simulation.n_steps() + 1);
+      double max_deformation = 0;
+      std::string failure;
+      const std::clock_t cpu_start = std::clock();
+      try {
+        simulation.run([&](const HumanoidSimulation& s) {
+          const multibody::Stepper& stepper = s.stepper();
+          impulse.push_back(stepper.total_contact_force().z() * dt);
+          if (fem)
+            for (int foot = 0; foot < 2; ++foot) {
+              const Eigen::VectorXd& u = stepper.patch_displacement(foot); // (n, t1, t2) per node
+              for (Eigen::Index k = 0; k < u.size(); k += 3)
+                max_deformation = std::max(max_deformation, std::abs(u[k]));
+            }
+        });
+      } catch (const std::exception& e) {
+        failure = fem::exception_text(e); // keep the cost up to the failure
+      }
+      const double cpu = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+      const HumanoidSummary& summary = simulation.summary();
+      result.cpu = std::min(result.cpu, cpu);
+      if (summary.loop_wall_time < result.wall) {
+        result.wall = summary.loop_wall_time;
+        result.setup = summary.setup_wall_time;
+        result.profile = simulation.stepper().profile();
+      }
+      result.dt = dt;
+      result.simulated = summary.simulated_time;
+      result.contacts_per_foot = fem ? summary.n_sole_nodes : 8;
+      result.max_contacts = summary.max_active_contacts;
+      result.mean_iterations =
+          summary.n_solves > 0 ? double(summary.solver_iterations) / summary.n_solves : 0;
+      result.peak_az = summary.max_waist_acceleration_z;
+      result.max_deformation = max_deformation;
+      result.impulse = impulse;
+      const auto& p = result.profile;
+      if (p.n_solves > 0) {
+        // Dense operator of an average solve: rows x nv of G plus the active patch blocks.
+        const double rows = double(p.n_solve_rows) / p.n_solves;
+        const double nv = simulation.model().nv;
+        const double patch_rows = 3.0 * result.contacts_per_foot;
+        const double n_patches = fem ? rows / patch_rows : 0;
+        result.operator_bytes = 8 * (rows * nv + n_patches * patch_rows * patch_rows);
+        result.solve_time = p.contact_solve / p.n_solves;
+      }
+      if (!failure.empty())
+        throw std::runtime_error(failure);
+    } catch (const std::exception& e) {
+      result.status = fem::exception_text(e);
+      std::replace(result.status.begin(), result.status.end(), ',', ';');
+      std::replace(result.status.begin(), result.status.end(), '\n', ' ');
+      return;
+    }
+  }
+  if (result.operator_bytes > 0)
+    result.pass_time = read_pass_time(result.operator_bytes);
+}
+
+/// Vertical impulse summed over windows of @p window seconds.
+std::vector<double> windowed(const std::vector<double>& impulse, double dt, double window) {
+  const int per = std::max(1, static_cast<int>(std::lround(window / dt)));
+  std::vector<double> out((impulse.size() + per - 1) / per, 0.0);
+  for (std::size_t n = 0; n < impulse.size(); ++n)
+    out[n / per] += impulse[n];
+  return out;
+}
+
+void compare(Result& r, const Result& ref, double window) {
+  if (r.status != "ok" || ref.status != "ok")
+    return;
+  r.e_a = std::abs(r.peak_az - ref.peak_az) / ref.peak_az;
+  r.e_u = ref.max_deformation > 0
+              ? std::abs(r.max_deformation - ref.max_deformation) / ref.max_deformation
+              : NAN;
+  const auto a = windowed(r.impulse, r.dt, window), b = windowed(ref.impulse, ref.dt, window);
+  double worst = 0, scale = 0;
+  for (std::size_t w = 0; w < std::min(a.size(), b.size()); ++w) {
+    worst = std::max(worst, std::abs(a[w] - b[w]));
+    scale = std::max(scale, std::abs(b[w]));
+  }
+  r.e_p = scale > 0 ? worst / scale : NAN;
+}
+
+std::string fmt(double x, const char* f = "%.4g") {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, f, x);
+  return buffer;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  std::vector<std::filesystem::path> scenes;
+  std::filesystem::path out = "work_precision";
+  int repeat = 1;
+  bool base_only = false; // --base-only: the scene's own setting (fem sole) and rigid feet
+  double duration_drop = 0.5, duration_walk = 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--out" && i + 1 < argc)
+      out = argv[++i];
+    else if (a == "--repeat" && i + 1 < argc)
+      repeat = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--duration-drop" && i + 1 < argc)
+      duration_drop = std::atof(argv[++i]);
+    else if (a == "--base-only")
+      base_only = true;
+    else if (a == "--duration-walk" && i + 1 < argc)
+      duration_walk = std::atof(argv[++i]);
+    else if (!a.empty() && a[0] != '-')
+      scenes.emplace_back(a);
+    else {
+      std::cerr << "usage: work_precision SCENE.prm ... --out DIR [--repeat R] "
+                   "[--duration-drop S] [--duration-walk S]\n";
+      return 1;
+    }
+  }
+  if (scenes.empty()) {
+    std::cerr << "work_precision: no scene given\n";
+    return 1;
+  }
+  std::filesystem::create_directories(out);
+  std::vector<Result> results;
+  for (const auto& file : scenes) {
+    dealii::ParameterHandler prm;
+    Scene base;
+    try {
+      base = load_scene(file, prm);
+    } catch (const std::exception& e) {
+      std::cerr << fem::exception_text(e) << "\n";
+      return 1;
+    }
+    base.robot.foot_form = FootForm::fem_sole;
+    base.output.write_vtu = false;
+    const double duration = base.type == "drop" ? duration_drop : duration_walk;
+    if (duration > 0)
+      base.simulation.duration = duration;
+    const double h0 = base.sole.mesh_size, dt0 = base.simulation.time_step;
+    std::vector<std::vector<Variant>> knobs;
+    {
+      std::vector<Variant> v;
+      for (double f : {4.0 / 3.0, 1.0, 2.0 / 3.0, 0.5})
+        v.push_back(
+            {"mesh size", fmt(h0 * f, "%.3g"), [h = h0 * f](Scene& s) { s.sole.mesh_size = h; }});
+      knobs.push_back(v);
+    }
+    knobs.push_back({{"degree", "1", [](Scene& s) { s.sole.degree = 1; }},
+                     {"degree", "2", [](Scene& s) { s.sole.degree = 2; }}});
+    {
+      std::vector<Variant> v;
+      for (double f : {4.0, 2.0, 1.0, 0.5, 0.25})
+        v.push_back({"time step", fmt(dt0 * f, "%.3g"),
+                     [d = dt0 * f](Scene& s) { s.simulation.time_step = d; }});
+      knobs.push_back(v);
+    }
+    {
+      std::vector<Variant> v;
+      for (double tol : {1e-3, 1e-4, 1e-6, 1e-8, 1e-10})
+        v.push_back({"tolerance", fmt(tol, "%.0e"), [tol](Scene& s) {
+                       s.contact.tolerance = tol;
+                       s.contact.failure_residual = std::max(s.contact.failure_residual, 10 * tol);
+                     }});
+      knobs.push_back(v);
+    }
+    {
+      std::vector<Variant> v;
+      for (int g : {2, 3, 4, 6, 8})
+        v.push_back(
+            {"sole model", "reduced " + std::to_string(g) + "x" + std::to_string(g), [g](Scene& s) {
+               s.sole_reduction.patches_x = g;
+               s.sole_reduction.patches_y = g;
+             }});
+      v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
+      // Hook: the nonlinear sole (helper D) goes here as one more value of this knob.
+      knobs.push_back(v);
+    }
+    if (base_only)
+      knobs = {{{"base", "scene", [](Scene&) {}}}};
+    const double window = 4 * dt0; // the coarsest time step of the sweep
+    for (const auto& knob : knobs) {
+      std::vector<Result> rows;
+      for (const auto& variant : knob) {
+        Scene scene = base;
+        variant.apply(scene);
+        Result r;
+        r.scene = base.type;
+        r.knob = variant.knob;
+        r.value = variant.value;
+        std::cerr << base.type << ": " << r.knob << " = " << r.value << " ..." << std::flush;
+        run_one(scene, r, repeat);
+        std::cerr << " " << r.status << ", " << fmt(r.wall / std::max(r.simulated, 1e-12))
+                  << " s/s\n";
+        rows.push_back(r);
+      }
+      rows.back().reference = true;
+      for (auto& r : rows)
+        compare(r, rows.back(), window);
+      results.insert(results.end(), rows.begin(), rows.end());
+    }
+    Scene rigid = base;
+    rigid.robot.foot_form = FootForm::rigid;
+    Result r;
+    r.scene = base.type;
+    r.knob = "rigid feet";
+    r.value = "rigid";
+    r.reference = true;
+    run_one(rigid, r, repeat);
+    results.push_back(r);
+  }
+
+  std::ofstream csv(out / "work_precision.csv");
+  csv << "scene,knob,value,reference,status,dt,simulated_s,contacts_per_foot,max_contacts,"
+         "mean_iterations,cpu_per_sim_s,wall_per_sim_s,dynamics,contact_build,sole_update,contact_"
+         "solve,"
+         "other,setup_s,peak_az,max_deformation,e_a,e_u,e_p,solve_us,pass_us,solve_over_pass\n";
+  std::printf("%-5s %-11s %-13s %8s %8s %6s %7s %8s %8s %8s %8s %8s %9s %9s %9s %8s %6s\n", "scene",
+              "knob", "value", "cpu/sim", "wall/sim", "x_rt", "dyn", "build", "sole", "solve",
+              "other", "peak_az", "e_a", "e_u", "e_p", "solve_us", "ratio");
+  for (const auto& r : results) {
+    const double sim = std::max(r.simulated, 1e-12);
+    const auto& p = r.profile;
+    const double other = r.wall - p.total();
+    csv << r.scene << "," << r.knob << "," << r.value << "," << r.reference << "," << r.status
+        << "," << r.dt << "," << r.simulated << "," << r.contacts_per_foot << "," << r.max_contacts
+        << "," << r.mean_iterations << "," << r.cpu / sim << "," << r.wall / sim << ","
+        << p.dynamics / sim << "," << p.contact_build / sim << "," << p.sole_update / sim << ","
+        << p.contact_solve / sim << "," << other / sim << "," << r.setup << "," << r.peak_az << ","
+        << r.max_deformation << "," << r.e_a << "," << r.e_u << "," << r.e_p << ","
+        << 1e6 * r.solve_time << "," << 1e6 * r.pass_time << "," << r.solve_time / r.pass_time
+        << "\n";
+    std::printf(
+        "%-5s %-11s %-13s %8.3f %8.3f %6.1f %7.3f %8.3f %8.3f %8.3f %8.3f %8.2f %9.2e %9.2e "
+        "%9.2e %8.1f %6.1f %s\n",
+        r.scene.c_str(), r.knob.c_str(), r.value.c_str(), r.cpu / sim, r.wall / sim, sim / r.cpu,
+        p.dynamics / sim, p.contact_build / sim, p.sole_update / sim, p.contact_solve / sim,
+        other / sim, r.peak_az, r.e_a, r.e_u, r.e_p, 1e6 * r.solve_time, r.solve_time / r.pass_time,
+        r.status == "ok" ? "" : r.status.c_str());
+  }
+  return 0;
+}

@@ -1,0 +1,64 @@
+#pragma once
+// A reduced sole: the condensed compliance of a sole (condensed_sole.h) aggregated onto
+// coarser contact patches, one contact point per patch.
+//
+// Node k (of n, positions x_k) belongs to patch j(k) (of P). A patch force F_j (N) is shared
+// equally by its n_j nodes, f_k = F_j / n_j, and the patch displacement is the mean of its
+// nodes' displacements, U_j = sum_{k in j} u_k / n_j. With the aggregation matrix
+// A (3n x 3P), A_{kj} = I_3 / n_j for k in j:
+//
+//   f = A F,   U = A^T u,   C_r = A^T C A   (3P x 3P, m/N),   X_j = sum_{k in j} x_k / n_j
+//
+// C_r is symmetric positive definite when C is. Restricting the forces to patch-wise constant
+// ones is a Galerkin (complementary energy) reduction: for any rigid motion a of the contact
+// face, the reduced stiffness a^T R_r^T C_r^-1 R_r a never exceeds the full one
+// a^T R^T C^-1 R a and grows monotonically under nested refinement; with one node per patch
+// C_r = C. (R maps a rigid motion to node displacements, R_r the same at the patch centres.)
+//
+// Patches from a grid: the nodes' bounding box in the sole's x-y plane split into nx x ny
+// equal cells; empty cells are dropped. Grids whose nx, ny double are nested.
+// Eigen only; constant after construction.
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace plantar::coupling {
+
+class ReducedSole {
+public:
+  /// @p positions (n x 3, m, sole frame) and @p compliance (3n x 3n, m/N, node-major) of the
+  /// full condensed sole; @p patch_of_node (n) the patch of each node, values in [0, P) with
+  /// every patch non-empty. Throws std::invalid_argument naming the argument on bad sizes or
+  /// an empty patch.
+  ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
+              const std::vector<int>& patch_of_node);
+
+  /// Patches from an @p nx x @p ny grid over the nodes' x-y bounding box (nx, ny >= 1).
+  static std::vector<int> grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny);
+
+  int n_patches() const { return static_cast<int>(patch_positions_.rows()); }
+  int n_nodes() const { return static_cast<int>(patch_of_node_.size()); }
+  /// Patch centres X_j (P x 3, m, sole frame): mean of their nodes.
+  const Eigen::MatrixX3d& patch_positions() const { return patch_positions_; }
+  /// C_r = A^T C A (3P x 3P, m/N, sole frame, patch-major), symmetrized.
+  const Eigen::MatrixXd& compliance() const { return compliance_; }
+  const std::vector<int>& patch_of_node() const { return patch_of_node_; }
+  /// Nodes in each patch.
+  const std::vector<int>& patch_sizes() const { return patch_sizes_; }
+
+private:
+  std::vector<int> patch_of_node_, patch_sizes_;
+  Eigen::MatrixX3d patch_positions_;
+  Eigen::MatrixXd compliance_;
+};
+
+/// Stiffness of the contact face against rigid motions (6 x 6): K = R^T C^-1 R with
+/// R_k = [I_3, -[x_k - x_0]_x] (3 x 6 per node, translation then rotation, rad), @p positions
+/// (n x 3, m), @p compliance (3n x 3n, m/N), @p origin x_0 (m). Units: N/m, N/rad, N m/rad.
+/// Used to compare a reduced sole with the full one. Allocates.
+Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& positions,
+                                                   const Eigen::MatrixXd& compliance,
+                                                   const Eigen::Vector3d& origin);
+
+} // namespace plantar::coupling

@@ -1,0 +1,201 @@
+#!/usr/bin/python3
+"""The ParaView series of a humanoid run, read back with VTK's own XML readers (python3-vtk9).
+
+Runs `plantar run tests/apps/test_vtk_output.prm` (stand on FEM soles, 0.2 s, a frame every
+50 steps) and checks, frame by frame, against quantities computed elsewhere:
+  - the series: parameters.prm and the CSVs are there, the .pvd lists one frame per 50 steps
+    (t = 0, 0.05, ..., 0.2) with files that exist;
+  - links: one VTK_VERTEX per body; body 1's vertex is the waist position of waist.csv;
+  - soles: every array present, with the right number of components and tuples; on the bottom
+    nodes the recovered displacement equals the stepper's contact displacement; the sum of the
+    nodal contact forces equals the foot force of contacts.csv; every loaded node lies on the
+    ground after deformation (Signorini, within the position-correction penetration) and
+    inside the friction cone; in the last frame both feet carry the robot's weight (URDF
+    masses) within 10 %.
+Exit status 0 on success, 1 with the failed checks listed.
+"""
+import argparse
+import csv
+import math
+import pathlib
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import vtk
+from vtk.util.numpy_support import vtk_to_numpy
+
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+    return ok
+
+
+def read_vtu(path):
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    grid = reader.GetOutput()
+    if grid is None or grid.GetNumberOfPoints() == 0:
+        raise RuntimeError(f"{path}: VTK read no points")
+    return grid
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {key: np.array([float(r[key]) for r in rows]) for key in rows[0]}
+
+
+def row_at(table, t):
+    i = int(np.argmin(np.abs(table["t"] - t)))
+    check(abs(table["t"][i] - t) < 1e-9, f"no CSV row at t = {t}")
+    return i
+
+
+def point_array(grid, name, components):
+    array = grid.GetPointData().GetArray(name)
+    if not check(array is not None, f"point array {name} missing"):
+        return np.zeros((grid.GetNumberOfPoints(), components))
+    check(array.GetNumberOfComponents() == components,
+          f"{name}: {array.GetNumberOfComponents()} components, expected {components}")
+    check(array.GetNumberOfTuples() == grid.GetNumberOfPoints(),
+          f"{name}: {array.GetNumberOfTuples()} tuples != {grid.GetNumberOfPoints()} points")
+    return vtk_to_numpy(array).reshape(grid.GetNumberOfPoints(), components).astype(float)
+
+
+def unique_nodes(points, *fields):
+    """deal.II writes each cell's vertices separately: merge coincident points."""
+    keys = np.round(points / 1e-7).astype(np.int64)
+    _, first = np.unique(keys, axis=0, return_index=True)
+    return (points[first],) + tuple(f[first] for f in fields)
+
+
+def robot_mass(urdf):
+    return sum(float(m.get("value")) for m in ET.parse(urdf).getroot().iter("mass"))
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--plantar", required=True)
+    parser.add_argument("--source", required=True)
+    parser.add_argument("--work", required=True)
+    args = parser.parse_args()
+    source = pathlib.Path(args.source)
+    out = pathlib.Path(args.work)
+    shutil.rmtree(out, ignore_errors=True)
+    run = subprocess.run([args.plantar, "run", str(source / "tests/apps/test_vtk_output.prm"),
+                          "-o", str(out), "--no-figures"], capture_output=True, text=True)
+    if run.returncode != 0:
+        print(run.stdout, run.stderr)
+        print("FAIL: plantar run exited with", run.returncode)
+        return 1
+
+    for name in ["parameters.prm", "waist.csv", "contacts.csv", "joints.csv", "scene.pvd",
+                 "links.pvd", "sole_right.pvd", "sole_left.pvd"]:
+        check((out / name).is_file(), f"{name} missing")
+    waist = read_csv(out / "waist.csv")
+    contacts = read_csv(out / "contacts.csv")
+    dt, every, duration, mu, max_penetration = 0.001, 50, 0.2, 0.8, 0.005
+    expected_times = [every * dt * i for i in range(int(round(duration / (every * dt))) + 1)]
+
+    series = {}
+    for name in ["links", "sole_right", "sole_left"]:
+        sets = ET.parse(out / f"{name}.pvd").getroot().find("Collection").findall("DataSet")
+        times = [float(s.get("timestep")) for s in sets]
+        check(np.allclose(times, expected_times, atol=1e-12),
+              f"{name}.pvd times {times} != {expected_times}")
+        series[name] = [(float(s.get("timestep")), out / s.get("file")) for s in sets]
+    scene_sets = ET.parse(out / "scene.pvd").getroot().find("Collection").findall("DataSet")
+    check(len(scene_sets) == 3 * len(expected_times), "scene.pvd: not 3 parts per frame")
+
+    mass = robot_mass(source / "models/hrp2/hrp2.urdf")
+    max_dev = {"waist": 0.0, "u": 0.0, "force": 0.0, "gap": 0.0, "cone": 0.0}
+    for frame, (t, links_file) in enumerate(series["links"]):
+        links = read_vtu(links_file)
+        types = np.array([links.GetCellType(c) for c in range(links.GetNumberOfCells())])
+        body = vtk_to_numpy(links.GetCellData().GetArray("body"))
+        vertices = np.flatnonzero(types == vtk.VTK_VERTEX)
+        check(sorted(body[vertices]) == list(range(1, 32)),
+              f"t = {t}: vertex bodies {sorted(body[vertices])} != 1..31")
+        waist_cell = vertices[body[vertices] == 1][0]
+        waist_point = np.array(links.GetPoint(links.GetCell(waist_cell).GetPointId(0)))
+        if t > 0:  # the CSV rows start at the first output step
+            i = row_at(waist, t)
+            waist_csv = np.array([waist["x"][i], waist["y"][i], waist["z"][i]])
+            max_dev["waist"] = max(max_dev["waist"], np.abs(waist_point - waist_csv).max())
+            check(np.abs(waist_point - waist_csv).max() < 1e-7,
+                  f"t = {t}: waist vertex {waist_point} != waist.csv {waist_csv}")
+
+        total_fz = 0.0
+        for foot in ["right", "left"]:
+            ft, path = series[f"sole_{foot}"][frame]
+            check(abs(ft - t) < 1e-12, f"sole_{foot} frame {frame} at t = {ft} != {t}")
+            grid = read_vtu(path)
+            n = grid.GetNumberOfPoints()
+            x = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
+            u = point_array(grid, "displacement", 3)
+            uc = point_array(grid, "contact_displacement", 3)
+            f = point_array(grid, "contact_force", 3)
+            p = point_array(grid, "contact_pressure", 1)[:, 0]
+            flag = point_array(grid, "contact_node", 1)[:, 0]
+            vm = point_array(grid, "von_mises", 1)[:, 0]
+            point_array(grid, "stress", 9)
+            material = point_array(grid, "material_id", 1)  # deal.II: cell data as points
+            check(len(np.unique(material)) == 1,  # one material (rubber) in the scene
+                  f"t = {t} {foot}: material ids {np.unique(material)}")
+            check(np.isfinite(u).all() and np.isfinite(vm).all() and (vm >= 0).all(),
+                  f"t = {t} {foot}: non-finite displacement or negative von Mises")
+            x, u, uc, f, p, flag = unique_nodes(x, u, uc, f, p, flag)
+            bottom = flag > 0.5
+            check(bottom.sum() > 10, f"t = {t} {foot}: {bottom.sum()} contact nodes")
+            scale = max(np.abs(uc).max(), 1e-9)
+            dev = np.abs(u[bottom] - uc[bottom]).max() / scale
+            max_dev["u"] = max(max_dev["u"], dev)
+            check(dev < 1e-5, f"t = {t} {foot}: recovered vs stepper displacement {dev:.2e}")
+            check(np.abs(f[~bottom]).max(initial=0) == 0, f"t = {t} {foot}: force off the bottom")
+            if t > 0:
+                i = row_at(contacts, t)
+                f_csv = np.array([contacts[f"{foot}_f{c}"][i] for c in "xyz"])
+            else:  # before the first step: no impulse yet
+                f_csv = np.zeros(3)
+            f_sum = f[bottom].sum(axis=0)
+            dev = np.abs(f_sum - f_csv).max() / max(np.abs(f_csv).max(), 1.0)
+            max_dev["force"] = max(max_dev["force"], dev)
+            check(dev < 1e-5, f"t = {t} {foot}: sum of nodal forces {f_sum} != CSV {f_csv}")
+            total_fz += f_sum[2]
+            loaded = bottom & (f[:, 2] > 1e-3 * max(f[:, 2].max(), 1e-9))
+            if t > 0:
+                check(loaded.sum() > 0, f"t = {t} {foot}: no loaded node")
+                z = x[loaded, 2] + u[loaded, 2]
+                max_dev["gap"] = max(max_dev["gap"], np.abs(z).max())
+                check((np.abs(z) < max_penetration).all(),
+                      f"t = {t} {foot}: loaded nodes at z = [{z.min():.2e}, {z.max():.2e}] m")
+                tangential = np.hypot(f[loaded, 0], f[loaded, 1])
+                cone = (tangential / (mu * f[loaded, 2])).max()
+                max_dev["cone"] = max(max_dev["cone"], cone)
+                check(cone <= 1 + 1e-4, f"t = {t} {foot}: |f_t| / (mu f_n) = {cone}")
+                check((p[loaded] > 0).all(), f"t = {t} {foot}: loaded node without pressure")
+        if frame == len(series["links"]) - 1:
+            weight = mass * 9.81
+            check(abs(total_fz - weight) < 0.1 * weight,
+                  f"last frame: sum f_z = {total_fz:.1f} N, weight {weight:.1f} N")
+            print(f"last frame: sum f_z = {total_fz:.1f} N, m g = {weight:.1f} N")
+
+    print("max |waist vertex - waist.csv| = %.2e m" % max_dev["waist"])
+    print("max |u - u_c| / max |u_c| on bottom nodes = %.2e" % max_dev["u"])
+    print("max |sum f - contacts.csv| / |f| = %.2e" % max_dev["force"])
+    print("max |z + u_z| of loaded nodes = %.2e m" % max_dev["gap"])
+    print("max |f_t| / (mu f_n) = %.6f" % max_dev["cone"])
+    for f in failures:
+        print("FAIL:", f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
