@@ -110,8 +110,15 @@ public:
   const multibody::Stepper& stepper() const { return *stepper_; }
   /// The condensed sole (Foot form = fem sole), else nullptr.
   const coupling::CondensedSole* sole() const { return sole_.get(); }
-  /// Stepper patch of foot @p foot (0 right, 1 left) for fem sole, else -1.
-  int sole_patch(int foot) const { return sole_ ? feet_[foot].front().patch : -1; }
+  /// The hyperelastic sole of foot @p foot (Sole/Model = hyperelastic), else nullptr.
+  const coupling::NonlinearCondensedSole* hyperelastic_sole(int foot) const {
+    return hyperelastic_[foot].get();
+  }
+  /// Stepper patch of foot @p foot (0 right, 1 left) for fem sole (linear or hyperelastic),
+  /// else -1.
+  int sole_patch(int foot) const {
+    return sole_ || hyperelastic_[foot] ? feet_[foot].front().patch : -1;
+  }
   /// Model frame index of r_sole (foot 0) or l_sole (foot 1).
   int sole_frame(int foot) const { return sole_frames_[foot]; }
   /// Calls @p hook at the end of every step() whose count is a multiple of @p every (>= 1)

@@ -15,6 +15,11 @@
 //       contact_node          1 on the bottom (contact) nodes, 0 elsewhere
 //       strain, stress (sole frame, Pa), von_mises (Pa)        (fem/field_output.h)
 //     and cell data material_id. "Warp By Vector" with displacement shows the deformed sole.
+//     Sole/Model = hyperelastic (coupling/nonlinear_condensed_sole.h): the same arrays, with
+//     displacement the sole's full field at its last Newton check (the forces of the last
+//     update() that moved more than Sole/Check tolerance; the writer solves nothing, so output
+//     does not change the run), strain the Green-Lagrange strain and stress, von_mises the
+//     Cauchy stress of the hyperelastic law (sole frame).
 // <directory>/{links,sole_right,sole_left}.pvd   one time series each
 // <directory>/scene.pvd                          all parts (0 links, 1 right, 2 left sole)
 // The .pvd files are rewritten (atomically) at every frame: a run that fails keeps a

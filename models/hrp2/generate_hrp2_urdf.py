@@ -65,6 +65,16 @@ def fixed(name, parent, child, xyz, comment):
     JOINTS.append((name, "fixed", parent, child, xyz, None, 0, 0, 0, 0, comment))
 
 
+# link name -> (kind "box"/"cylinder", size, xyz, comment): <visual> geometry, drawing only
+# (ParaView output); it does not enter the dynamics, which use the <inertial> blocks alone.
+# Box size (x, y, z) m; cylinder size (radius, length) m, axis along the link's z.
+VISUALS = {}
+
+
+def visual(name, kind, size, xyz, comment):
+    VISUALS[name] = (kind, size, xyz, comment)
+
+
 # Masses (ESTIMATE, kg). Segment volumes: see docs/hrp2_model.md. Total 58.0.
 M = {
     "BODY": 9.4, "HIPY": 0.7, "HIPR": 0.7, "THIGH": 3.6, "SHANK": 2.1, "ANKP": 0.3, "FOOT": 1.4,
@@ -75,6 +85,7 @@ TORSO_COM_Z = 0.214    # ESTIMATE: CHEST_LINK1 CoM above the chest joints (tuned
 
 link("BODY", M["BODY"], (0.0, 0.0, 0.06), box_inertia(M["BODY"], 0.20, 0.25, 0.16),
      "waist/pelvis: box 0.20 x 0.25 x 0.16 m")
+visual("BODY", "box", (0.20, 0.25, 0.16), (0.0, 0.0, 0.06), "waist: the inertia's box (ESTIMATE), about its CoM")
 # Leg limits (deg, ESTIMATE: typical HRP-2 ranges), right leg; left mirrors roll/yaw.
 LEG_LIM_R = [(-45, 30), (-35, 20), (-125, 42), (-2, 150), (-75, 42), (-20, 35)]
 LEG_EFFORT = [150, 250, 300, 300, 250, 150]  # N m, ESTIMATE
@@ -88,6 +99,16 @@ for side, s, pre in (("R", -1.0, "RLEG"), ("L", 1.0, "LLEG")):
     link(pre + "_LINK4", M["ANKP"], (0.0, 0.0, 0.0), box_inertia(M["ANKP"], 0.06, 0.06, 0.06), "ankle pitch cross: box 0.06 m")
     link(pre + "_LINK5", M["FOOT"], (SOLE_DX, s * SOLE_DY_OUT, -0.07), box_inertia(M["FOOT"], FOOT_L, FOOT_W, 0.07),
          "foot with its force sensor and rubber bush: box 0.2172 x 0.138 x 0.07 m")
+    visual(pre + "_LINK0", "box", (0.10, 0.08, 0.08), (0.0, 0.0, 0.04), "hip yaw bracket: the inertia's box (ESTIMATE)")
+    visual(pre + "_LINK1", "box", (0.10, 0.08, 0.08), (0.0, 0.0, 0.0), "hip roll bracket: the inertia's box (ESTIMATE)")
+    visual(pre + "_LINK2", "cylinder", (0.06, THIGH), (0.0, s * HIP_OFFSET_Y / 2, -THIGH / 2),
+           "thigh: public length 0.30 m hip to knee, radius 0.06 m ESTIMATE")
+    visual(pre + "_LINK3", "cylinder", (0.05, SHANK), (0.0, 0.0, -SHANK / 2),
+           "shank: public length 0.30 m knee to ankle, radius 0.05 m ESTIMATE")
+    visual(pre + "_LINK4", "box", (0.06, 0.06, 0.06), (0.0, 0.0, 0.0), "ankle pitch cross: the inertia's box (ESTIMATE)")
+    visual(pre + "_LINK5", "box", (FOOT_L, FOOT_W, 0.07), (SOLE_DX, s * SOLE_DY_OUT, -ANKLE_H + 0.035),
+           "foot: public sole 0.2172 x 0.138 m centred on the sole frame, bottom face on the sole frame "
+           "(public: 0.105 m below the ankle), height 0.07 m ESTIMATE")
     joint(pre + "_JOINT0", "BODY", pre + "_LINK0", (0.0, s * WAIST_TO_HIP_Y, 0.0), (0, 0, 1), lims[0], LEG_EFFORT[0], LEG_VEL[0],
           "hip yaw; public: waist to hip 0.06 m lateral. Yaw, roll and pitch axes meet at the hip point")
     joint(pre + "_JOINT1", pre + "_LINK0", pre + "_LINK1", (0.0, 0.0, 0.0), (1, 0, 0), lims[1], LEG_EFFORT[1], LEG_VEL[1], "hip roll")
@@ -105,10 +126,14 @@ for side, s, pre in (("R", -1.0, "RLEG"), ("L", 1.0, "LLEG")):
 link("CHEST_LINK0", M["CHEST0"], (0.0, 0.0, 0.0), box_inertia(M["CHEST0"], 0.10, 0.10, 0.06), "chest yaw bracket: box 0.10 x 0.10 x 0.06 m")
 link("CHEST_LINK1", M["CHEST1"], (-0.02, 0.0, TORSO_COM_Z), box_inertia(M["CHEST1"], 0.26, 0.34, 0.45),
      "torso with computers and battery: box 0.26 x 0.34 x 0.45 m")
+visual("CHEST_LINK0", "box", (0.10, 0.10, 0.06), (0.0, 0.0, 0.0), "chest yaw bracket: the inertia's box (ESTIMATE)")
+visual("CHEST_LINK1", "box", (0.26, 0.34, 0.45), (-0.02, 0.0, TORSO_COM_Z), "torso: the inertia's box (ESTIMATE), about its CoM")
 joint("CHEST_JOINT0", "BODY", "CHEST_LINK0", (0.0, 0.0, CHEST_Z), (0, 0, 1), (-45, 45), 150, 4.0, "chest yaw; position ESTIMATE")
 joint("CHEST_JOINT1", "CHEST_LINK0", "CHEST_LINK1", (0.0, 0.0, 0.0), (0, 1, 0), (-5, 60), 200, 4.0, "chest pitch")
 link("HEAD_LINK0", M["HEAD0"], (0.0, 0.0, 0.0), box_inertia(M["HEAD0"], 0.06, 0.06, 0.06), "neck yaw bracket: box 0.06 m")
 link("HEAD_LINK1", M["HEAD1"], (0.02, 0.0, 0.09), box_inertia(M["HEAD1"], 0.18, 0.16, 0.185), "head with cameras: box 0.18 x 0.16 x 0.185 m")
+visual("HEAD_LINK0", "box", (0.06, 0.06, 0.06), (0.0, 0.0, 0.0), "neck yaw bracket: the inertia's box (ESTIMATE)")
+visual("HEAD_LINK1", "box", (0.18, 0.16, 0.185), (0.02, 0.0, 0.09), "head: the inertia's box (ESTIMATE); top at 1.54 m, public height")
 joint("HEAD_JOINT0", "CHEST_LINK1", "HEAD_LINK0", (0.0, 0.0, NECK_Z), (0, 0, 1), (-45, 45), 20, 4.0, "neck yaw; position ESTIMATE (head top at 1.54 m, public height)")
 joint("HEAD_JOINT1", "HEAD_LINK0", "HEAD_LINK1", (0.0, 0.0, 0.0), (0, 1, 0), (-30, 45), 20, 4.0, "neck pitch")
 
@@ -126,9 +151,17 @@ for s, pre in ((-1.0, "RARM"), (1.0, "LARM")):
              box_inertia(M["ARM6"], 0.04, 0.08, 0.10)]
     shapes = ["shoulder bracket: box 0.08 m", "shoulder bracket: box 0.08 m", "upper arm: cylinder r 0.045 m, 0.25 m",
               "elbow: box 0.07 m", "forearm: cylinder r 0.04 m, 0.25 m", "wrist: box 0.05 m", "gripper: box 0.04 x 0.08 x 0.10 m"]
+    vis = [("box", (0.08, 0.08, 0.08), coms[0], "shoulder bracket: the inertia's box (ESTIMATE)"),
+           ("box", (0.08, 0.08, 0.08), coms[1], "shoulder bracket: the inertia's box (ESTIMATE)"),
+           ("cylinder", (0.045, UPPER_ARM), coms[2], "upper arm: public length 0.25 m shoulder to elbow, radius 0.045 m ESTIMATE"),
+           ("box", (0.07, 0.07, 0.07), coms[3], "elbow: the inertia's box (ESTIMATE)"),
+           ("cylinder", (0.04, FOREARM), coms[4], "forearm: public length 0.25 m elbow to wrist, radius 0.04 m ESTIMATE"),
+           ("box", (0.05, 0.05, 0.05), coms[5], "wrist: the inertia's box (ESTIMATE)"),
+           ("box", (0.04, 0.08, 0.10), coms[6], "gripper: the inertia's box (ESTIMATE)")]
     for i in range(7):
         parent = "CHEST_LINK1" if i == 0 else "%s_LINK%d" % (pre, i - 1)
         link("%s_LINK%d" % (pre, i), M["ARM%d" % i], coms[i], inert[i], shapes[i])
+        visual("%s_LINK%d" % (pre, i), *vis[i])
         joint("%s_JOINT%d" % (pre, i), parent, "%s_LINK%d" % (pre, i), xyz[i], ARM_AXES[i], lims[i], ARM_EFFORT[i], 4.0, names[i])
 
 
@@ -204,6 +237,16 @@ if __name__ == "__main__":
         out.append('      <mass value="%.4f"/>' % m)
         out.append('      <inertia ixx="%.6g" ixy="0" ixz="0" iyy="%.6g" iyz="0" izz="%.6g"/>' % I)
         out.append('    </inertial>')
+        if name in VISUALS:
+            kind, size, xyz, vcomment = VISUALS[name]
+            out.append('    <!-- visual (drawing only, no dynamics): %s -->' % vcomment)
+            out.append('    <visual>')
+            out.append('      <origin xyz="%.5f %.5f %.5f" rpy="0 0 0"/>' % tuple(float(v) for v in xyz))
+            if kind == "box":
+                out.append('      <geometry><box size="%.5f %.5f %.5f"/></geometry>' % size)
+            else:
+                out.append('      <geometry><cylinder radius="%.5f" length="%.5f"/></geometry>' % size)
+            out.append('    </visual>')
         out.append('  </link>')
     for (name, typ, parent, child, xyz, axis, lo, hi, eff, vel, comment) in JOINTS:
         out.append('  <!-- %s -->' % comment)
