@@ -102,6 +102,12 @@ bool wants_help(const std::vector<std::string>& args) {
   return false;
 }
 
+/// The -o directory, or out/<scene file stem> when none is given.
+std::filesystem::path output_directory(const std::string& scene_file, const std::string& output) {
+  return output.empty() ? std::filesystem::path("out") / std::filesystem::path(scene_file).stem()
+                        : std::filesystem::path(output);
+}
+
 int print_parameters(const std::vector<std::string>& args) {
   if (wants_help(args)) {
     std::cout << print_help;
@@ -142,9 +148,7 @@ int run(const std::vector<std::string>& args) {
   }
   dealii::ParameterHandler prm;
   const app::Scene scene = app::load_scene(scene_file, prm);
-  const std::filesystem::path out =
-      output.empty() ? std::filesystem::path("out") / std::filesystem::path(scene_file).stem()
-                     : std::filesystem::path(output);
+  const std::filesystem::path out = output_directory(scene_file, output);
 
   if (scene.type != "static sole" && !scene.robot.foot_forms.empty()) {
     fem::write_file_atomically(out / "parameters.prm", [&](std::ostream& os) {
@@ -221,9 +225,7 @@ int sweep(const std::vector<std::string>& args) {
   }
   dealii::ParameterHandler prm;
   const app::Scene scene = app::load_scene(scene_file, prm);
-  const std::filesystem::path out =
-      output.empty() ? std::filesystem::path("out") / std::filesystem::path(scene_file).stem()
-                     : std::filesystem::path(output);
+  const std::filesystem::path out = output_directory(scene_file, output);
   int status = 0;
   try {
     status = app::run_sweep(scene_file, scene, out, jobs,

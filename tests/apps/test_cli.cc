@@ -3,6 +3,8 @@
 // each kind of bad scene.
 #include "apps/scene.h"
 
+#include "tests/apps/cli_test_utilities.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -15,20 +17,9 @@
 
 namespace {
 
-struct Outcome {
-  int status;
-  std::string output; // stdout and stderr
-};
-
+using plantar::test::Outcome;
 Outcome run(const std::string& arguments) {
-  const std::string command = std::string(PLANTAR_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe))
-    output += buffer.data();
-  const int status = ::pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return plantar::test::run_plantar(arguments);
 }
 
 std::filesystem::path write_scene(const std::string& name, const std::string& text) {

@@ -1,6 +1,8 @@
 // plantar sweep as users run it: a 2 x 2 grid (E x nu) of short drops on a coarse FEM sole.
 // Checked: the parallel sweep equals the serial one, each point equals a fresh `plantar run`
 // of its scene file, and an interrupted sweep recomputes only the unfinished points.
+#include "tests/apps/cli_test_utilities.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
@@ -18,20 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-  int status;
-  std::string output; // stdout and stderr
-};
-
+using plantar::test::Outcome;
 Outcome run(const std::string& arguments) {
-  const std::string command = std::string(PLANTAR_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = ::popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe))
-    output += buffer.data();
-  const int status = ::pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return plantar::test::run_plantar(arguments);
 }
 
 std::string read_text(const fs::path& path) {

@@ -1,0 +1,28 @@
+#pragma once
+// Runs the plantar program (PLANTAR_BINARY, defined by the test's CMake target) as users do.
+#include <array>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+namespace plantar::test {
+
+/// Exit status (-1 if killed) and the merged stdout and stderr of one run.
+struct Outcome {
+  int status;
+  std::string output;
+};
+
+/// Runs `plantar ARGUMENTS` through the shell.
+inline Outcome run_plantar(const std::string& arguments) {
+  const std::string command = std::string(PLANTAR_BINARY) + " " + arguments + " 2>&1";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer;
+  while (std::fgets(buffer.data(), buffer.size(), pipe))
+    output += buffer.data();
+  const int status = ::pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+} // namespace plantar::test
