@@ -7,6 +7,10 @@ namespace plantar::multibody {
 const Eigen::MatrixXd& crba(const Model& model, Data& data,
                             const Eigen::Ref<const Eigen::VectorXd>& q) {
   forward_kinematics(model, data, q);
+  return crba_from_placements(model, data);
+}
+
+const Eigen::MatrixXd& crba_from_placements(const Model& model, Data& data) {
   for (int i = 0; i < model.n_bodies; ++i) {
     data.composite[i] = model.inertia[i];
   }

@@ -15,4 +15,8 @@ namespace plantar::multibody {
 const Eigen::MatrixXd& crba(const Model& model, Data& data,
                             const Eigen::Ref<const Eigen::VectorXd>& q);
 
+/// The same without the forward kinematics: uses data.liMi as left by forward_kinematics,
+/// rnea or nonlinear_effects at the same q (saves one kinematic pass when both are needed).
+const Eigen::MatrixXd& crba_from_placements(const Model& model, Data& data);
+
 } // namespace plantar::multibody

@@ -32,6 +32,25 @@ void point_jacobian(const Model& model, const Data& data, int body, const Eigen:
   }
 }
 
+void body_origin_jacobian(const Model& model, const Data& data, int body,
+                          Eigen::Ref<Eigen::MatrixXd> jacobian) {
+  check_size(jacobian.rows(), 6, "body_origin_jacobian: rows");
+  check_size(jacobian.cols(), model.nv, "body_origin_jacobian: cols");
+  jacobian.setZero();
+  const Eigen::Vector3d& origin = data.oMi[body].translation;
+  for (int j = body; j > 0; j = model.parent[j]) {
+    const auto& s = model.motion_subspace[j];
+    const SE3& placement = data.oMi[j];
+    const Eigen::Vector3d lever = origin - placement.translation;
+    for (int k = 0; k < model.nv_joint[j]; ++k) {
+      auto col = jacobian.col(model.idx_v[j] + k);
+      const Eigen::Vector3d w = placement.rotation * s.col(k).tail<3>();
+      col.head<3>() = placement.rotation * s.col(k).head<3>() + w.cross(lever);
+      col.tail<3>() = w;
+    }
+  }
+}
+
 void frame_jacobian(const Model& model, const Data& data, int frame,
                     Eigen::Ref<Eigen::MatrixXd> jacobian) {
   check_size(jacobian.rows(), 6, "frame_jacobian: rows");

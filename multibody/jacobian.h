@@ -20,6 +20,14 @@ void body_jacobian_world(const Model& model, const Data& data, int body,
 void point_jacobian(const Model& model, const Data& data, int body, const Eigen::Vector3d& point,
                     Eigen::Ref<Eigen::MatrixXd> jacobian);
 
+/// Jacobian of body b (6 x nv) with world-aligned axes at the body origin o_b (Pinocchio's
+/// LOCAL_WORLD_ALIGNED for the body frame): rows 0-2 the velocity of o_b (m/s per unit v),
+/// rows 3-5 the angular velocity; column of ancestor joint j = [R_j s_lin + (R_j s_ang) x
+/// (o_b - o_j); R_j s_ang], other columns 0. A point p fixed to b moves with
+/// v_p = J_lin v - (p - o_b) x J_ang v. Allocates nothing.
+void body_origin_jacobian(const Model& model, const Data& data, int body,
+                          Eigen::Ref<Eigen::MatrixXd> jacobian);
+
 /// Frame Jacobian (6 x nv) with world-aligned axes at the frame origin (Pinocchio's
 /// LOCAL_WORLD_ALIGNED): rows 0-2 the origin's linear velocity, rows 3-5 the angular velocity.
 void frame_jacobian(const Model& model, const Data& data, int frame,

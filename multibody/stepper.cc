@@ -40,7 +40,8 @@ void StepperParameters::validate() const {
 }
 
 Stepper::Stepper(const Model& model, const StepperParameters& parameters)
-    : model_(model), parameters_(parameters), data_(model), gains_(PdGains::Zero(model)) {
+    : model_(model), parameters_(parameters), data_(model), gains_(PdGains::Zero(model)),
+      body_slot_(model.n_bodies, -1) {
   parameters_.validate();
   resize_workspaces();
 }
@@ -49,21 +50,40 @@ void Stepper::resize_workspaces() {
   const int nv = model_.nv;
   const int max = parameters_.max_contacts;
   effective_mass_.setZero(nv, nv);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(nv);
   rhs_.setZero(nv);
   v_free_.setZero(nv);
   dv_.setZero(nv);
   bias_start_.setZero(nv);
   v_mid_.setZero(nv);
-  point_jacobian_.setZero(3, nv);
-  contact_jacobian_.setZero(3 * max, nv);
-  gt_.setZero(nv, 3 * max);
   impulses_.setZero(3 * max);
   problem_.resize(max, nv);
   solver_.resize(max, nv);
   gap_.setZero(points_.size());
   v_before_.setZero(points_.size());
+  lever_.assign(points_.size(), Eigen::Vector3d::Zero());
   active_points_.reserve(points_.size());
+}
+
+void Stepper::solve_effective_mass(Eigen::VectorXd& x) const {
+  const auto l = effective_mass_.triangularView<Eigen::Lower>();
+  l.solveInPlace(x);
+  l.transpose().solveInPlace(x);
+}
+
+int Stepper::add_body_slot(int body) {
+  if (body_slot_[body] < 0) {
+    const int nv = model_.nv;
+    body_slot_[body] = static_cast<int>(slot_body_.size());
+    slot_body_.push_back(body);
+    slot_jacobian_.push_back(Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, nv));
+    slot_factor_.push_back(Eigen::MatrixXd::Zero(nv, 6));
+    slot_factor_t_.push_back(Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, nv));
+    slot_velocity_.push_back(Vector6d::Zero());
+    slot_free_velocity_.push_back(Vector6d::Zero());
+    slot_impulse_.push_back(Vector6d::Zero());
+    slot_factored_.push_back(0);
+  }
+  return body_slot_[body];
 }
 
 void Stepper::set_gains(const PdGains& gains) {
@@ -86,6 +106,7 @@ int Stepper::add_contact_point(int body, const Eigen::Vector3d& position, double
   }
   points_.push_back(ContactPoint{body, position, friction});
   point_impulse_.push_back(Eigen::Vector3d::Zero());
+  add_body_slot(body);
   resize_workspaces();
   return static_cast<int>(points_.size()) - n_patch_points_ - 1;
 }
@@ -128,21 +149,104 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
               Eigen::MatrixXd::Zero(3 * n, 3 * n),
               Eigen::VectorXd::Zero(3 * n),
               Eigen::VectorXd::Zero(3 * n),
+              false,
+              Eigen::MatrixXd::Zero(3 * n, 3 * n),
+              Eigen::Matrix3d::Identity(),
               false};
   n_patch_points_ += n;
+  add_body_slot(body);
   patches_.push_back(std::move(patch));
   problem_.patches.push_back(coupling::CompliantPatch{});
   resize_workspaces();
   return static_cast<int>(patches_.size()) - 1;
 }
 
-void Stepper::add_point_row(int point, int row, double extra_gap) {
+double Stepper::evaluate_candidate(int point, double extra_gap) {
   const ContactPoint& c = points_[point];
-  point_jacobian(model_, data_, c.body, c.position, point_jacobian_);
-  contact_jacobian_.row(3 * row) = point_jacobian_.row(2);
-  contact_jacobian_.row(3 * row + 1) = point_jacobian_.row(0);
-  contact_jacobian_.row(3 * row + 2) = point_jacobian_.row(1);
-  gap_[point] = data_.oMi[c.body].act_point(c.position).z() + extra_gap;
+  const SE3& placement = data_.oMi[c.body];
+  const Eigen::Vector3d r = placement.rotation * c.position;
+  lever_[point] = r;
+  gap_[point] = (r + placement.translation).z() + extra_gap;
+  // Normal (z) velocity of the point: v_o,z + (w x r)_z.
+  const int s = body_slot_[c.body];
+  const Vector6d& vel = slot_velocity_[s];
+  const Vector6d& free = slot_free_velocity_[s];
+  v_before_[point] = vel[2] + (vel[3] * r.y() - vel[4] * r.x());
+  return free[2] + (free[3] * r.y() - free[4] * r.x());
+}
+
+void Stepper::fill_contact_rows(int k, int point) {
+  const int s = body_slot_[points_[point].body];
+  if (!slot_factored_[s]) { // L^-1 J_b^T once per body and step
+    slot_factor_[s] = slot_jacobian_[s].transpose();
+    effective_mass_.triangularView<Eigen::Lower>().solveInPlace(slot_factor_[s]);
+    slot_factor_t_[s] = slot_factor_[s].transpose();
+    slot_factored_[s] = 1;
+  }
+  // Rows S(r) (J_b L^-T) with S(r) = R_c^T [I, -[r]x], contact frame rows n = z, t1 = x,
+  // t2 = y, written out (the zeros of S skipped): row n = H_2 + r_y H_3 - r_x H_4,
+  // t1 = H_0 + r_z H_4 - r_y H_5, t2 = H_1 - r_z H_3 + r_x H_5, H = J_b L^-T.
+  const Eigen::Vector3d& r = lever_[point];
+  const Eigen::Matrix<double, 6, Eigen::Dynamic>& h = slot_factor_t_[s];
+  Eigen::MatrixXd& g = problem_.rigid_factor;
+  for (int col = 0; col < model_.nv; ++col) {
+    const double* hc = h.col(col).data();
+    double* gc = g.col(col).data() + 3 * k;
+    gc[0] = hc[2] + r.y() * hc[3] - r.x() * hc[4];
+    gc[1] = hc[0] + r.z() * hc[4] - r.y() * hc[5];
+    gc[2] = hc[1] - r.z() * hc[3] + r.x() * hc[5];
+  }
+  const Vector6d& f = slot_free_velocity_[s];
+  problem_.free_velocity[3 * k] = f[2] + r.y() * f[3] - r.x() * f[4];
+  problem_.free_velocity[3 * k + 1] = f[0] + r.z() * f[4] - r.y() * f[5];
+  problem_.free_velocity[3 * k + 2] = f[1] - r.z() * f[3] + r.x() * f[5];
+}
+
+void Stepper::update_patch_blocks(Patch& patch, coupling::CompliantPatch& target) {
+  const Eigen::Matrix3d a = ground_frame_transpose() * data_.oMi[patch.body].rotation;
+  if (patch.blocks_valid && a == patch.rotation) {
+    return; // same C and rotation as the blocks held: nothing changes (exact)
+  }
+  // target = (I (x) a_s) C (I (x) a_s)^T, a_s = a / dt, over the upper blocks (r <= c):
+  // B = C (I (x) a_s)^T by column panels, then (I (x) a_s) B per 3-vector, the lower blocks
+  // mirrored (C symmetric): about half the time of the per-block products.
+  const double dt = parameters_.time_step;
+  const Eigen::Matrix3d a_s = a / dt;
+  const int n_nodes = static_cast<int>(patch.nodes.cols());
+  const int size = 3 * n_nodes;
+  Eigen::MatrixXd& b = patch.rotated;
+  for (int c = 0; c < n_nodes; ++c) {
+    b.block(0, 3 * c, 3 * c + 3, 3).noalias() =
+        patch.compliance.block(0, 3 * c, 3 * c + 3, 3) * a_s.transpose();
+  }
+  // Column j of the upper blocks, each value also written to its mirror (j, i) below.
+  double* out = target.compliance_over_dt.data();
+  for (int j = 0; j < size; ++j) {
+    const double* from = b.col(j).data();
+    double* to = out + static_cast<Eigen::Index>(j) * size;
+    const int last = j / 3;           // block row of the diagonal block
+    for (int r = 0; r <= last; ++r) { // plain loop: Eigen's 3 x 3 by 3 x k product is slower
+      const double x = from[3 * r], y = from[3 * r + 1], z = from[3 * r + 2];
+      const double u = a_s(0, 0) * x + a_s(0, 1) * y + a_s(0, 2) * z;
+      const double v = a_s(1, 0) * x + a_s(1, 1) * y + a_s(1, 2) * z;
+      const double w = a_s(2, 0) * x + a_s(2, 1) * y + a_s(2, 2) * z;
+      to[3 * r] = u;
+      to[3 * r + 1] = v;
+      to[3 * r + 2] = w;
+      if (r < last) {
+        out[static_cast<Eigen::Index>(3 * r) * size + j] = u;
+        out[static_cast<Eigen::Index>(3 * r + 1) * size + j] = v;
+        out[static_cast<Eigen::Index>(3 * r + 2) * size + j] = w;
+      }
+    }
+  }
+  if (patch.has_offset) {
+    for (int k = 0; k < n_nodes; ++k) {
+      patch.offset_contact.segment<3>(3 * k).noalias() = a * patch.offset.segment<3>(3 * k);
+    }
+  }
+  patch.rotation = a;
+  patch.blocks_valid = true;
 }
 
 void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::MatrixXd>& compliance,
@@ -176,6 +280,7 @@ void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::Matr
   target.compliance = compliance;
   target.offset = offset;
   target.has_offset = !offset.isZero(0.0);
+  target.blocks_valid = false;
 }
 
 StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
@@ -200,8 +305,8 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   ++profile_.n_steps;
 
   // Free motion with linear-implicit springs: M_eff v_free = r.
-  crba(model_, data_, q);
-  nonlinear_effects(model_, data_, q, v); // also fills oMi, v for the contacts
+  nonlinear_effects(model_, data_, q, v); // also fills liMi, oMi, v
+  crba_from_placements(model_, data_);
   effective_mass_ = data_.mass_matrix;
   rhs_.noalias() = data_.mass_matrix * v;
   rhs_ += dt * (tau - data_.bias);
@@ -223,13 +328,14 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       rhs_[iv] += dt * (spring + kd * (v_ref[iv] - v[iv]) - ds * v[iv]);
     }
   }
-  llt_.compute(effective_mass_);
-  if (llt_.info() != Eigen::Success) {
+  // M_eff = L L^T in place (Eigen's unblocked kernel: at nv ~ 40 faster than LLT::compute's
+  // blocked one, same algorithm).
+  if (Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(effective_mass_) >= 0) {
     throw std::runtime_error("Stepper::step: M + dt D + dt^2 K is not positive definite "
                              "(check the model's inertias and the gains)");
   }
   v_free_ = rhs_;
-  llt_.solveInPlace(v_free_);
+  solve_effective_mass(v_free_);
   if (parameters_.midpoint_bias) {
     // Second pass: b evaluated at v_mid = (v + v_free) / 2 instead of v.
     bias_start_ = data_.bias;
@@ -237,23 +343,27 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     nonlinear_effects(model_, data_, q, v_mid_);
     rhs_ += dt * (bias_start_ - data_.bias);
     v_free_ = rhs_;
-    llt_.solveInPlace(v_free_);
+    solve_effective_mass(v_free_);
   }
   lap(profile_.dynamics);
 
-  // Contact candidates: patches first (all nodes when any is active), then free points.
+  // Contact candidates: patches first (all nodes when any is active), then free points. Per
+  // body carrying candidates: J_b, J_b v and J_b v_free once.
+  for (std::size_t s = 0; s < slot_body_.size(); ++s) {
+    body_origin_jacobian(model_, data_, slot_body_[s], slot_jacobian_[s]);
+    slot_velocity_[s].noalias() = slot_jacobian_[s] * v;
+    slot_free_velocity_[s].noalias() = slot_jacobian_[s] * v_free_;
+    slot_factored_[s] = 0;
+  }
   int n = 0;
   active_points_.clear();
-  const Eigen::Matrix3d rct = ground_frame_transpose();
   for (std::size_t j = 0; j < patches_.size(); ++j) {
     Patch& patch = patches_[j];
     const int n_nodes = static_cast<int>(patch.nodes.cols());
     bool any_active = false;
     for (int k = 0; k < n_nodes; ++k) {
       const int point = patch.first_point + k;
-      add_point_row(point, n + k, patch.displacement[3 * k]);
-      v_before_[point] = contact_jacobian_.row(3 * (n + k)).dot(v);
-      const double v_free_n = contact_jacobian_.row(3 * (n + k)).dot(v_free_);
+      const double v_free_n = evaluate_candidate(point, patch.displacement[3 * k]);
       // With no impulse the node's deformation relaxes to the offset d within the step (the
       // -(U_prev - d)/dt term of eq. 12), so the node can touch iff the unloaded gap
       // g - U_prev + d does (d of the last step's frames).
@@ -277,18 +387,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     target.first_contact = n;
     target.n_contacts = n_nodes;
     lap(profile_.contact_build);
-    const Eigen::Matrix3d a = rct * data_.oMi[patch.body].rotation;
-    for (int r = 0; r < n_nodes; ++r) {
-      for (int c = 0; c < n_nodes; ++c) {
-        target.compliance_over_dt.block<3, 3>(3 * r, 3 * c).noalias() =
-            a * patch.compliance.block<3, 3>(3 * r, 3 * c) * a.transpose() / (dt * dt);
-      }
-    }
-    if (patch.has_offset) {
-      for (int k = 0; k < n_nodes; ++k) {
-        patch.offset_contact.segment<3>(3 * k).noalias() = a * patch.offset.segment<3>(3 * k);
-      }
-    }
+    update_patch_blocks(patch, target);
     lap(profile_.sole_update);
     for (int k = 0; k < n_nodes; ++k) {
       active_points_.push_back(patch.first_point + k);
@@ -296,9 +395,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     n += n_nodes;
   }
   for (int point = n_patch_points_; point < static_cast<int>(points_.size()); ++point) {
-    add_point_row(point, n, 0.0);
-    v_before_[point] = contact_jacobian_.row(3 * n).dot(v);
-    const double v_free_n = contact_jacobian_.row(3 * n).dot(v_free_);
+    const double v_free_n = evaluate_candidate(point, 0.0);
     if (gap_[point] + dt * std::min(v_free_n, 0.0) <= margin) {
       active_points_.push_back(point);
       ++n;
@@ -309,13 +406,9 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
 
   if (n > 0) {
     // G = J_c L^-T, v_free,c, b, mu, warm start.
-    auto gt = gt_.leftCols(3 * n);
-    gt = contact_jacobian_.topRows(3 * n).transpose();
-    llt_.matrixL().solveInPlace(gt);
-    problem_.rigid_factor.topRows(3 * n) = gt.transpose();
-    problem_.free_velocity.head(3 * n).noalias() = contact_jacobian_.topRows(3 * n) * v_free_;
     for (int k = 0; k < n; ++k) {
       const int point = active_points_[k];
+      fill_contact_rows(k, point);
       const double gap = gap_[point];
       // An impact with restitution follows Newton's law alone (Moreau-Jean); otherwise a
       // contact activated before touching may close its gap within the step, no more:
@@ -350,9 +443,24 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     if (parameters_.throw_if_not_converged) {
       coupling::throw_if_not_converged(report.solver, parameters_.solver, "Stepper::step");
     }
-    // v+ = v_free + L^-T (G^T p).
-    dv_.noalias() = gt * impulses_.head(3 * n);
-    llt_.matrixU().solveInPlace(dv_);
+    // v+ = v_free + L^-T (G^T p), G^T p = sum over bodies of (L^-1 J_b^T) (sum of S^T p).
+    for (auto& impulse : slot_impulse_) {
+      impulse.setZero();
+    }
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d p = impulses_.segment<3>(3 * k);
+      const Eigen::Vector3d world(p[1], p[2], p[0]); // R_c p
+      Vector6d& wrench = slot_impulse_[body_slot_[points_[active_points_[k]].body]];
+      wrench.head<3>() += world;
+      wrench.tail<3>() += lever_[active_points_[k]].cross(world);
+    }
+    dv_.setZero();
+    for (std::size_t s = 0; s < slot_body_.size(); ++s) {
+      if (slot_factored_[s]) {
+        dv_.noalias() += slot_factor_[s] * slot_impulse_[s];
+      }
+    }
+    effective_mass_.triangularView<Eigen::Lower>().transpose().solveInPlace(dv_);
     v = v_free_ + dv_;
   } else {
     report.solver.status = coupling::SolverStatus::converged;

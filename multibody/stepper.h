@@ -23,6 +23,9 @@
 // enters as a whole when any of its nodes is active; its block is A C A^T / dt^2 per node pair
 // with A = R_c^T R_body (contact frame <- body frame), plus the deformation-rate term of
 // eq. 12 (compliance_terms.h); node gaps include the previous step's deformation.
+// Cost: the rows of all candidates fixed to one body come from that body's 6 x nv Jacobian
+// J_b and one triangular solve L^-1 J_b^T per body and step; a patch's blocks are recomputed
+// only when its body's rotation (bitwise) or C changed since they were last computed.
 //
 // After construction and the add_* calls, step() allocates nothing (tested with Eigen's
 // malloc guard, except inside Eigen's blocked Cholesky of a patch block larger than about
@@ -158,10 +161,21 @@ private:
     Eigen::VectorXd offset;         // d (body frame), set_patch_compliance
     Eigen::VectorXd offset_contact; // d in the contact frames of the current step
     bool has_offset = false;
+    Eigen::MatrixXd rotated;   // C (I (x) a)^T / dt, upper blocks only (sole_update workspace)
+    Eigen::Matrix3d rotation;  // a = R_c^T R_body of the blocks held in compliance_over_dt
+    bool blocks_valid = false; // compliance_over_dt (or parked) holds the blocks for rotation
   };
 
   void resize_workspaces();
-  void add_point_row(int point, int row, double extra_gap);
+  int add_body_slot(int body);
+  /// x <- M_eff^-1 x from the factor in effective_mass_.
+  void solve_effective_mass(Eigen::VectorXd& x) const;
+  /// Gap, lever r = p - o_b and normal velocities (at v and v_free) of candidate @p point;
+  /// returns the normal free velocity.
+  double evaluate_candidate(int point, double extra_gap);
+  /// Row block k (3 rows) of G and v_free,c for candidate @p point.
+  void fill_contact_rows(int k, int point);
+  void update_patch_blocks(Patch& patch, coupling::CompliantPatch& target);
 
   const Model& model_;
   StepperParameters parameters_;
@@ -173,15 +187,21 @@ private:
   int n_patch_points_ = 0;
 
   // Workspaces (sized once).
-  Eigen::MatrixXd effective_mass_;
-  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::MatrixXd effective_mass_; // M_eff, then its Cholesky factor L in the lower triangle
   Eigen::VectorXd rhs_, v_free_, dv_, bias_start_, v_mid_;
-  Eigen::MatrixXd point_jacobian_;   // 3 x nv
-  Eigen::MatrixXd contact_jacobian_; // 3 max x nv
-  Eigen::MatrixXd gt_;               // nv x 3 max: L^-1 J^T
-  Eigen::VectorXd impulses_;         // 3 max
-  Eigen::VectorXd gap_, v_before_;   // per candidate point
-  std::vector<int> active_points_;   // capacity = number of points
+  // Per body carrying candidates ("slot"): the contact rows of its points are S(r) J_b with
+  // J_b its 6 x nv Jacobian (body_origin_jacobian) and S(r) = R_c^T [I, -[r]x] (3 x 6).
+  std::vector<int> body_slot_;                                          // per body, -1: none
+  std::vector<int> slot_body_;                                          // per slot
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_jacobian_; // J_b
+  std::vector<Eigen::MatrixXd> slot_factor_;                            // L^-1 J_b^T, nv x 6
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_factor_t_; // J_b L^-T
+  std::vector<Vector6d> slot_velocity_, slot_free_velocity_, slot_impulse_;
+  std::vector<char> slot_factored_;    // slot_factor_ computed this step
+  Eigen::VectorXd impulses_;           // 3 max
+  Eigen::VectorXd gap_, v_before_;     // per candidate point
+  std::vector<Eigen::Vector3d> lever_; // per candidate point: r = p - o_b (world, m)
+  std::vector<int> active_points_;     // capacity = number of points
   coupling::ContactProblem problem_;
   coupling::ContactSolver solver_;
   StepProfile profile_;

@@ -11,8 +11,10 @@
 #include "multibody/stepper.h"
 #include "multibody/urdf_loader.h"
 
+#include <Eigen/Cholesky>
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 #include <string>
@@ -85,9 +87,49 @@ void BM_ForwardKinematics(benchmark::State& state) {
 }
 BENCHMARK(BM_ForwardKinematics)->Unit(benchmark::kMicrosecond);
 
+/// Dense Cholesky of M + dt D + dt^2 K (36 x 36) as in Stepper::step, plus one solve.
+void BM_EffectiveMassCholesky(benchmark::State& state) {
+  const Model& model = hrp2(false);
+  Data data(model);
+  const Eigen::VectorXd q = random_configuration(model);
+  Eigen::MatrixXd m_eff = crba(model, data, q);
+  m_eff.diagonal().array() += 0.2 + 1e-6 * 1e4;
+  Eigen::LLT<Eigen::MatrixXd> llt(model.nv);
+  Eigen::VectorXd x = random_state(model, model.nv, 2);
+  for (auto _ : state) {
+    llt.compute(m_eff);
+    llt.solveInPlace(x);
+    benchmark::DoNotOptimize(x.data());
+  }
+}
+BENCHMARK(BM_EffectiveMassCholesky)->Unit(benchmark::kMicrosecond);
+
+/// The same with Eigen's unblocked in-place factorization (no blocking, no norm), as
+/// Stepper::step does.
+void BM_EffectiveMassCholeskyUnblocked(benchmark::State& state) {
+  const Model& model = hrp2(false);
+  Data data(model);
+  const Eigen::VectorXd q = random_configuration(model);
+  Eigen::MatrixXd m_eff = crba(model, data, q);
+  m_eff.diagonal().array() += 0.2 + 1e-6 * 1e4;
+  Eigen::MatrixXd l(model.nv, model.nv);
+  Eigen::VectorXd x = random_state(model, model.nv, 2);
+  for (auto _ : state) {
+    l = m_eff;
+    Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(l);
+    l.triangularView<Eigen::Lower>().solveInPlace(x);
+    l.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
+    benchmark::DoNotOptimize(x.data());
+  }
+}
+BENCHMARK(BM_EffectiveMassCholeskyUnblocked)->Unit(benchmark::kMicrosecond);
+
 /// Full steps of the robot standing under PD control: range(0) = 0 without contacts (in the
-/// air), 1 with 8 rigid sole-corner contacts; range(1) = 1 with compliant ankles; range(2) = 1
-/// with StepperParameters::midpoint_bias.
+/// air), 1 with 8 rigid sole-corner contacts, 2 on two compliant patches of 9 x 7 nodes (the
+/// size of scenes/walk.prm's condensed soles) with a dense SPD compliance (C = 1e-7 (B B^T / 189
+/// + I) m/N, B uniform in [-1, 1]; its values do not matter for the cost; the default solver
+/// dominates that total, see the phase counters); range(1) = 1 with compliant ankles;
+/// range(2) = 1 with StepperParameters::midpoint_bias.
 void BM_Step(benchmark::State& state) {
   const bool contacts = state.range(0) != 0;
   const bool compliant = state.range(1) != 0;
@@ -95,6 +137,7 @@ void BM_Step(benchmark::State& state) {
   StepperParameters parameters;
   parameters.time_step = 1e-3;
   parameters.midpoint_bias = state.range(2) != 0;
+  parameters.max_contacts = 128;
   Stepper stepper(model, parameters);
   stepper.set_gains(PdGains::Uniform(model, 1e4, 200.0));
   Data data(model);
@@ -102,7 +145,30 @@ void BM_Step(benchmark::State& state) {
   forward_kinematics(model, data, q);
   const int sole = model.frame_id("r_sole");
   q[2] = -frame_placement(model, data, sole).translation.z() + (contacts ? 0.0 : 1.0);
-  if (contacts) {
+  if (state.range(0) == 2) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+    Eigen::MatrixXd b(189, 189);
+    for (int i = 0; i < 189; ++i) {
+      for (int j = 0; j < 189; ++j) {
+        b(i, j) = uniform(rng);
+      }
+    }
+    Eigen::MatrixXd compliance =
+        1e-7 * (b * b.transpose() / 189.0 + Eigen::MatrixXd::Identity(189, 189));
+    compliance = (0.5 * (compliance + compliance.transpose())).eval();
+    for (const char* name : {"r_sole", "l_sole"}) {
+      const Frame& frame = model.frames[model.frame_id(name)];
+      Eigen::Matrix3Xd nodes(3, 63);
+      for (int ix = 0; ix < 9; ++ix) {
+        for (int iy = 0; iy < 7; ++iy) {
+          nodes.col(7 * ix + iy) = frame.placement.act_point(
+              Eigen::Vector3d(-0.1086 + 0.2172 * ix / 8.0, -0.069 + 0.138 * iy / 6.0, 0));
+        }
+      }
+      stepper.add_compliant_patch(frame.body, nodes, compliance, 0.8);
+    }
+  } else if (contacts) {
     for (const char* name : {"r_sole", "l_sole"}) {
       const Frame& frame = model.frames[model.frame_id(name)];
       for (const double x : {-0.1086, 0.1086}) {
@@ -120,6 +186,7 @@ void BM_Step(benchmark::State& state) {
     stepper.step(q, v, zero, q_ref, zero);
   }
   const Eigen::VectorXd q0 = q, v0 = v;
+  stepper.reset_profile();
   int n_contacts = 0;
   int steps = 0;
   for (auto _ : state) {
@@ -133,9 +200,21 @@ void BM_Step(benchmark::State& state) {
   }
   state.counters["nv"] = model.nv;
   state.counters["contacts"] = n_contacts;
+  // Wall microseconds per step in the phases of StepProfile.
+  const StepProfile& profile = stepper.profile();
+  const double us = 1e6 / static_cast<double>(std::max(profile.n_steps, 1L));
+  state.counters["dyn_us"] = profile.dynamics * us;
+  state.counters["build_us"] = profile.contact_build * us;
+  state.counters["sole_us"] = profile.sole_update * us;
+  state.counters["solve_us"] = profile.contact_solve * us;
 }
-BENCHMARK(BM_Step)->Args({0, 0, 0})->Args({1, 0, 0})->Args({1, 1, 0})->Args({1, 0, 1})->Unit(
-    benchmark::kMicrosecond);
+BENCHMARK(BM_Step)
+    ->Args({0, 0, 0})
+    ->Args({1, 0, 0})
+    ->Args({1, 1, 0})
+    ->Args({1, 0, 1})
+    ->Args({2, 0, 0})
+    ->Unit(benchmark::kMicrosecond);
 
 } // namespace
 } // namespace plantar::multibody

@@ -1,16 +1,23 @@
 // Work-precision study of the humanoid scenes (issue 8): speed against error.
 //
 //   work_precision SCENE.prm [SCENE.prm ...] --out DIR [--repeat R] [--duration-drop S]
-//                  [--duration-walk S] [--base-only]
+//                  [--duration-walk S] [--base-only] [--no-hyperelastic]
 //
-// For each scene (run with Robot/Foot form = fem sole), one knob at a time is varied from the
-// scene's own setting, the others kept: sole mesh size, element degree, time step, contact
-// solver tolerance, sole model (reduced patches nx x ny, full). Each knob's finest value is
-// that knob's reference. Errors against it:
+// For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole
+// scene unless given), one knob at a time is varied from the scene's own setting, the others
+// kept: sole mesh size, element degree, time step, contact solver tolerance, sole model
+// (reduced patches nx x ny, full) and the hyperelastic sole (Neo-Hookean, same E and nu, full
+// sole; Sole/Recondensation tolerance = Sole/Check tolerance varied). Each knob's finest value
+// is that knob's reference; the row "linear vs hyper" is the linear full sole against the
+// tightest hyperelastic run. Errors against the reference:
 //   e_a  |max |a_z,waist| - ref| / ref                   (the paper's criterion)
 //   e_u  |max normal sole deformation - ref| / ref       (max over nodes and time)
 //   e_p  max_w |P_w - P_w,ref| / max_w |P_w,ref|, P_w the vertical contact impulse summed
 //        over windows of the coarsest time step (the contact impulse per step, dt-independent)
+// Companion measures, not the criterion: e_a_walk, the peak for t >= 0.1 s (walk: without the
+// first step's settling onto the unloaded soles), and e_a_avg10, the peak of a_z averaged over
+// centred 10 ms windows (independent of dt); both also for runs that fell, up to the earlier
+// end of the two runs (compared_until_s).
 // Cost: loop wall seconds per simulated second, split into the stepper's phases
 // (multibody::StepProfile) and "other" (reference, waist figures, CSV rows). One rigid-foot run
 // gives the rigid cost. Each configuration is run R times, the minimum wall time kept; the
@@ -36,6 +43,7 @@
 #include <iostream>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace plantar;
@@ -59,7 +67,12 @@ struct Result {
   double mean_iterations = 0;
   double peak_az = 0, max_deformation = 0;
   std::vector<double> impulse; // vertical impulse per step, N s
+  std::vector<double> vz;      // waist vertical velocity per step (world frame), m/s
   double e_a = NAN, e_u = NAN, e_p = NAN;
+  // Companion measures (not the paper's criterion), over the time both runs simulated, from
+  // t0 = 0.1 s for the walk (without the first steps' settling onto the soles), 0 otherwise:
+  // e_w: peak |a_z| from t0; e_10: peak |a_z| averaged over centred 10 ms windows from t0.
+  double horizon = 0, peak_walk = NAN, peak_avg10 = NAN, e_w = NAN, e_10 = NAN;
   double solve_time = NAN, pass_time = NAN, operator_bytes = 0;
 };
 
@@ -137,6 +150,13 @@ void run_one(const Scene& scene, Result& result, int repeat) {
       result.peak_az = summary.max_waist_acceleration_z;
       result.max_deformation = max_deformation;
       result.impulse = impulse;
+      const TimeSeries& waist = simulation.waist_series();
+      result.vz.clear();
+      if (waist.n_rows() > 0) {
+        const int c = waist.column("vz");
+        for (int k = 0; k < waist.n_rows(); ++k)
+          result.vz.push_back(waist(k, c));
+      }
       const auto& p = result.profile;
       if (p.n_solves > 0) {
         // Dense operator of an average solve: rows x nv of G plus the active patch blocks.
@@ -169,7 +189,35 @@ std::vector<double> windowed(const std::vector<double>& impulse, double dt, doub
   return out;
 }
 
+/// Peaks of |a_z| of the waist over [t0, t1]: raw backward difference and the centred 10 ms
+/// average (v(t + 5 ms) - v(t - 5 ms)) / 10 ms; v = 0 before the first step.
+std::pair<double, double> peaks(const std::vector<double>& vz, double dt, double t0, double t1) {
+  const auto v = [&](long k) { return k <= 0 ? 0.0 : vz[k - 1]; }; // v(k dt)
+  const long n = static_cast<long>(vz.size()), h = std::max(1L, std::lround(0.005 / dt));
+  double raw = 0, avg = 0;
+  for (long k = 1; k <= n; ++k) {
+    const double t = k * dt;
+    if (t < t0 - 1e-12 || t > t1 + 1e-12)
+      continue;
+    raw = std::max(raw, std::abs(v(k) - v(k - 1)) / dt);
+    if (k - h >= 0 && k + h <= n)
+      avg = std::max(avg, std::abs(v(k + h) - v(k - h)) / (2 * h * dt));
+  }
+  return {raw, avg};
+}
+
 void compare(Result& r, const Result& ref, double window) {
+  // The companion measures also when a run failed (fell): over the time both simulated.
+  if (!r.vz.empty() && !ref.vz.empty()) {
+    r.horizon = std::min(r.vz.size() * r.dt, ref.vz.size() * ref.dt);
+    const double t0 = r.scene == "walk" ? 0.1 : 0.0;
+    const auto [w, a10] = peaks(r.vz, r.dt, t0, r.horizon);
+    const auto [w_ref, a10_ref] = peaks(ref.vz, ref.dt, t0, r.horizon);
+    r.peak_walk = w;
+    r.peak_avg10 = a10;
+    r.e_w = std::abs(w - w_ref) / w_ref;
+    r.e_10 = std::abs(a10 - a10_ref) / a10_ref;
+  }
   if (r.status != "ok" || ref.status != "ok")
     return;
   r.e_a = std::abs(r.peak_az - ref.peak_az) / ref.peak_az;
@@ -191,13 +239,32 @@ std::string fmt(double x, const char* f = "%.4g") {
   return buffer;
 }
 
+/// The scene's sole as a Neo-Hookean hyperelastic sole of the same small-strain E, nu
+/// (Sole/Model = hyperelastic, full sole), with Sole/Recondensation tolerance and Sole/Check
+/// tolerance both set to @p tolerance.
+void make_hyperelastic(Scene& s, double tolerance) {
+  std::string& m = s.sole.materials;
+  const auto law = m.find("law=linear");
+  if (law != std::string::npos)
+    m.replace(law, 10, "law=neo_hookean");
+  else if (m.find("law=") == std::string::npos) {
+    const auto colon = m.find(':');
+    m.insert(colon == std::string::npos ? 0 : colon + 1, " law=neo_hookean,");
+  }
+  s.sole.model = "hyperelastic";
+  s.sole.recondensation_tolerance = tolerance;
+  s.sole.check_tolerance = tolerance;
+  s.sole_reduction = {};
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::filesystem::path> scenes;
   std::filesystem::path out = "work_precision";
   int repeat = 1;
-  bool base_only = false; // --base-only: the scene's own setting (fem sole) and rigid feet
+  bool base_only = false;   // --base-only: the scene's own setting (fem sole) and rigid feet
+  bool hyperelastic = true; // --no-hyperelastic: skip the hyperelastic-sole knob
   double duration_drop = 0.5, duration_walk = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -209,13 +276,15 @@ int main(int argc, char** argv) {
       duration_drop = std::atof(argv[++i]);
     else if (a == "--base-only")
       base_only = true;
+    else if (a == "--no-hyperelastic")
+      hyperelastic = false;
     else if (a == "--duration-walk" && i + 1 < argc)
       duration_walk = std::atof(argv[++i]);
     else if (!a.empty() && a[0] != '-')
       scenes.emplace_back(a);
     else {
       std::cerr << "usage: work_precision SCENE.prm ... --out DIR [--repeat R] "
-                   "[--duration-drop S] [--duration-walk S]\n";
+                   "[--duration-drop S] [--duration-walk S] [--base-only] [--no-hyperelastic]\n";
       return 1;
     }
   }
@@ -252,7 +321,7 @@ int main(int argc, char** argv) {
                      {"degree", "2", [](Scene& s) { s.sole.degree = 2; }}});
     {
       std::vector<Variant> v;
-      for (double f : {4.0, 2.0, 1.0, 0.5, 0.25})
+      for (double f : {4.0, 2.0, 1.0, 0.5, 0.25, 0.125})
         v.push_back({"time step", fmt(dt0 * f, "%.3g"),
                      [d = dt0 * f](Scene& s) { s.simulation.time_step = d; }});
       knobs.push_back(v);
@@ -275,7 +344,16 @@ int main(int argc, char** argv) {
                s.sole_reduction.patches_y = g;
              }});
       v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
-      // Hook: the nonlinear sole (helper D) goes here as one more value of this knob.
+      knobs.push_back(v);
+    }
+    if (hyperelastic) {
+      // The Neo-Hookean sole of the same small-strain E, nu (full sole: no reduced patches),
+      // its two tolerances varied together; the tightest is the reference. The last row is the
+      // linear full sole compared with that reference: the nonlinear-vs-linear difference.
+      std::vector<Variant> v;
+      for (double tol : {0.1, 0.03, 0.01, 0.003})
+        v.push_back(
+            {"hyperelastic tol", fmt(tol, "%.3g"), [tol](Scene& s) { make_hyperelastic(s, tol); }});
       knobs.push_back(v);
     }
     if (base_only)
@@ -301,6 +379,23 @@ int main(int argc, char** argv) {
         compare(r, rows.back(), window);
       results.insert(results.end(), rows.begin(), rows.end());
     }
+    if (hyperelastic) {
+      // Nonlinear against linear: the linear full sole against the hyperelastic reference.
+      const Result *linear = nullptr, *nonlinear = nullptr;
+      for (const auto& r : results)
+        if (r.scene == base.type && r.knob == "sole model" && r.value == "full")
+          linear = &r;
+        else if (r.scene == base.type && r.knob == "hyperelastic tol" && r.reference)
+          nonlinear = &r;
+      if (linear && nonlinear) {
+        Result r = *linear;
+        r.knob = "linear vs hyper";
+        r.value = "linear full";
+        r.reference = false;
+        compare(r, *nonlinear, window);
+        results.push_back(r);
+      }
+    }
     Scene rigid = base;
     rigid.robot.foot_form = FootForm::rigid;
     Result r;
@@ -316,10 +411,13 @@ int main(int argc, char** argv) {
   csv << "scene,knob,value,reference,status,dt,simulated_s,contacts_per_foot,max_contacts,"
          "mean_iterations,cpu_per_sim_s,wall_per_sim_s,dynamics,contact_build,sole_update,contact_"
          "solve,"
-         "other,setup_s,peak_az,max_deformation,e_a,e_u,e_p,solve_us,pass_us,solve_over_pass\n";
-  std::printf("%-5s %-11s %-13s %8s %8s %6s %7s %8s %8s %8s %8s %8s %9s %9s %9s %8s %6s\n", "scene",
-              "knob", "value", "cpu/sim", "wall/sim", "x_rt", "dyn", "build", "sole", "solve",
-              "other", "peak_az", "e_a", "e_u", "e_p", "solve_us", "ratio");
+         "other,setup_s,peak_az,max_deformation,e_a,e_u,e_p,solve_us,pass_us,solve_over_pass,"
+         "compared_until_s,peak_az_walk,peak_az_avg10,e_a_walk,e_a_avg10\n";
+  std::printf(
+      "%-5s %-11s %-13s %8s %8s %6s %7s %8s %8s %8s %8s %8s %9s %9s %9s %8s %6s %9s %9s %6s\n",
+      "scene", "knob", "value", "cpu/sim", "wall/sim", "x_rt", "dyn", "build", "sole", "solve",
+      "other", "peak_az", "e_a", "e_u", "e_p", "solve_us", "ratio", "e_a_walk", "e_a_avg10",
+      "until");
   for (const auto& r : results) {
     const double sim = std::max(r.simulated, 1e-12);
     const auto& p = r.profile;
@@ -331,14 +429,15 @@ int main(int argc, char** argv) {
         << p.contact_solve / sim << "," << other / sim << "," << r.setup << "," << r.peak_az << ","
         << r.max_deformation << "," << r.e_a << "," << r.e_u << "," << r.e_p << ","
         << 1e6 * r.solve_time << "," << 1e6 * r.pass_time << "," << r.solve_time / r.pass_time
-        << "\n";
+        << "," << r.horizon << "," << r.peak_walk << "," << r.peak_avg10 << "," << r.e_w << ","
+        << r.e_10 << "\n";
     std::printf(
         "%-5s %-11s %-13s %8.3f %8.3f %6.1f %7.3f %8.3f %8.3f %8.3f %8.3f %8.2f %9.2e %9.2e "
-        "%9.2e %8.1f %6.1f %s\n",
+        "%9.2e %8.1f %6.1f %9.2e %9.2e %6.2f %s\n",
         r.scene.c_str(), r.knob.c_str(), r.value.c_str(), r.cpu / sim, r.wall / sim, sim / r.cpu,
         p.dynamics / sim, p.contact_build / sim, p.sole_update / sim, p.contact_solve / sim,
         other / sim, r.peak_az, r.e_a, r.e_u, r.e_p, 1e6 * r.solve_time, r.solve_time / r.pass_time,
-        r.status == "ok" ? "" : r.status.c_str());
+        r.e_w, r.e_10, r.horizon, r.status == "ok" ? "" : r.status.c_str());
   }
   return 0;
 }

@@ -65,8 +65,10 @@ struct ContactProblem {
   /// Throws std::invalid_argument naming the field and value if sizes,
   /// friction (mu >= 0, finite), patch ranges (disjoint, inside
   /// [0, n_contacts), square blocks of size 3 n_contacts) or data are invalid.
-  /// Does not allocate.
-  void validate() const;
+  /// @param check_matrices also check that G and the patch blocks are finite (one
+  /// pass over W; ContactSolver::solve skips it and reports non-finite data as
+  /// SolverStatus::non_finite instead). Does not allocate.
+  void validate(bool check_matrices = true) const;
 
   /// W_kk (3x3): diagonal block of contact k, G_k G_k^T + its patch block.
   Eigen::Matrix3d diagonal_block(int contact) const;

@@ -14,6 +14,8 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   const int m = rigid_rank_;
   auto g = problem.rigid_factor.topRows(n3);
   SolverResult result;
+  const LocalSearch search =
+      settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
   // y = G^T p and the patch velocities, kept current through the sweep.
   rigid_work_.head(m).noalias() = g.transpose() * p.head(n3);
   patch_velocity_.head(n3).setZero();
@@ -43,7 +45,7 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
       v_k.noalias() += g.middleRows<3>(3 * k) * rigid_work_.head(m);
       const Eigen::Vector3d q = v_k - block * p_old;
       const LocalSolution local =
-          solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old);
+          solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old, search);
       Eigen::Vector3d p_new;
       if (local.n_solutions > 0) {
         p_new = local.impulse;
@@ -85,9 +87,12 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
       break;
     }
   }
-  // Final residual from a fresh product (no incremental round-off).
-  compute_velocity(problem, p);
-  result.residual = residual(problem, p, velocity_);
+  // After 50 or more sweeps, the final residual from a fresh product (bounds the round-off of
+  // the incremental updates; below that the sweep's velocities are used, saving a pass over W).
+  if (result.iterations >= 50) {
+    compute_velocity(problem, p);
+    result.residual = residual(problem, p, velocity_);
+  }
   if (!std::isfinite(result.residual))
     result.status = SolverStatus::non_finite;
   else

@@ -1,6 +1,7 @@
 #include "coupling/contact/local_contact_solve.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -41,11 +42,106 @@ bool same_solution(const Eigen::Vector3d& x, const Eigen::Vector3d& y, double sc
   return (x - y).norm() <= 1e-9 * scale;
 }
 
+// LocalSearch::first: the preferred solution without enumeration. Returns false when it
+// cannot decide (no sticking or separation, and Newton on phi fails), leaving the scan to it.
+bool solve_first(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double normal_bias, double mu,
+                 const Eigen::Vector3d& previous, LocalSolution& out) {
+  const double qn_b = q[0] + normal_bias;
+  const double a_scale = a.diagonal().cwiseAbs().maxCoeff();
+  const double q_scale = std::max(std::abs(qn_b), q.tail<2>().norm());
+  const double tol_velocity = 1e-12 * q_scale;
+  if (qn_b >= -tol_velocity) {
+    out.impulse.setZero();
+    out.n_solutions = 1;
+    out.kind = LocalSolution::Kind::separation;
+    return true;
+  }
+  if (mu == 0.0) {
+    if (!(a(0, 0) > 0.0))
+      return false;
+    const double pn = -qn_b / a(0, 0);
+    if (!(pn > 0.0))
+      return false;
+    out.impulse = Eigen::Vector3d(pn, 0.0, 0.0);
+    out.n_solutions = 1;
+    out.kind = LocalSolution::Kind::sliding;
+    return true;
+  }
+  Eigen::Vector2d direction = previous.tail<2>();
+  const double det = a.determinant();
+  if (std::abs(det) > 1e-13 * a_scale * a_scale * a_scale && a_scale > 0.0) {
+    Eigen::Vector3d rhs = q;
+    rhs[0] += normal_bias;
+    const Eigen::Vector3d p = -a.inverse() * rhs;
+    const double t = std::hypot(p[1], p[2]);
+    if (p[0] > 0.0 && t <= mu * p[0] * (1.0 + 1e-10)) {
+      out.impulse = p;
+      out.n_solutions = 1;
+      out.kind = LocalSolution::Kind::sticking;
+      return true;
+    }
+    if (!(direction.squaredNorm() > 0.0))
+      direction = p.tail<2>();
+  }
+  if (!(direction.squaredNorm() > 0.0) || !direction.allFinite())
+    return false;
+  // Newton on f(phi) = d x w, w = den q_t - (q_n + b)(A_tn + mu A_tt d), d = (cos, sin):
+  //   f' = -(d . w) + d x w',  w' = den' q_t - (q_n + b) mu A_tt d_perp,  den' = mu A_nt d_perp.
+  const Eigen::Vector2d a_nt(a(0, 1), a(0, 2)), a_tn(a(1, 0), a(2, 0));
+  const Eigen::Matrix2d a_tt = a.bottomRightCorner<2, 2>();
+  double phi = std::atan2(direction[1], direction[0]);
+  bool converged = false;
+  for (int it = 0; it < 40; ++it) {
+    const Eigen::Vector2d d(std::cos(phi), std::sin(phi)), d_perp(-d[1], d[0]);
+    const double den = a(0, 0) + mu * a_nt.dot(d);
+    const Eigen::Vector2d w = den * q.tail<2>() - qn_b * (a_tn + mu * a_tt * d);
+    const Eigen::Vector2d w_prime =
+        mu * a_nt.dot(d_perp) * q.tail<2>() - qn_b * mu * (a_tt * d_perp);
+    const double f = d[0] * w[1] - d[1] * w[0];
+    const double f_prime = -d.dot(w) + d[0] * w_prime[1] - d[1] * w_prime[0];
+    if (f == 0.0) {
+      converged = true;
+      break;
+    }
+    if (!(f_prime != 0.0) || !std::isfinite(f_prime))
+      return false;
+    const double step = std::clamp(-f / f_prime, -0.5, 0.5);
+    phi += step;
+    if (std::abs(step) <= 1e-14 * (1.0 + std::abs(phi))) {
+      converged = true;
+      break;
+    }
+  }
+  if (!converged)
+    return false;
+  const Eigen::Vector2d d(std::cos(phi), std::sin(phi));
+  const double den = a(0, 0) + mu * a_nt.dot(d);
+  if (den == 0.0)
+    return false;
+  const double pn = -qn_b / den;
+  if (!(pn > 0.0))
+    return false;
+  const Eigen::Vector3d p(pn, mu * pn * d[0], mu * pn * d[1]);
+  const Eigen::Vector3d v = a * p + q;
+  // Valid: v_t opposes the friction direction and is parallel to it.
+  const double along = v[1] * d[0] + v[2] * d[1];
+  const double across = v[2] * d[0] - v[1] * d[1];
+  if (!(along <= tol_velocity) || !(std::abs(across) <= 1e-9 * (q_scale + v.norm())))
+    return false;
+  out.impulse = p;
+  out.n_solutions = 1;
+  out.kind = LocalSolution::Kind::sliding;
+  return true;
+}
+
 } // namespace
 
 LocalSolution solve_local_contact(const Eigen::Matrix3d& a, const Eigen::Vector3d& q,
-                                  double normal_bias, double mu, const Eigen::Vector3d& previous) {
+                                  double normal_bias, double mu, const Eigen::Vector3d& previous,
+                                  LocalSearch search) {
   LocalSolution out;
+  if (search == LocalSearch::first && solve_first(a, q, normal_bias, mu, previous, out))
+    return out;
   const double qn_b = q[0] + normal_bias;
   const double a_scale = a.diagonal().cwiseAbs().maxCoeff();
   const double q_scale = std::max(std::abs(qn_b), q.tail<2>().norm());

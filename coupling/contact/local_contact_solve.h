@@ -14,12 +14,24 @@
 //               roots), bracketed on a 64-point grid and refined by regula falsi (Illinois)
 //               to round-off; for each root p_n follows in closed form.
 // For a positive definite A a solution exists; it is unique for small mu but
-// may not be for large mu (Painleve-type cases): n_solutions reports how many
-// distinct solutions were found.
+// may not be for large mu (Painleve-type cases): with LocalSearch::all,
+// n_solutions reports how many distinct solutions were found.
+// LocalSearch::first returns the same choice without the enumeration: it
+// stops at a valid separation or sticking solution (the preferred kinds), and
+// finds a sliding solution by Newton's method on phi started from the previous
+// impulse's (else the sticking candidate's) direction, falling back to the
+// grid scan when Newton fails; n_solutions is then 1 (non-uniqueness is not
+// detected) and, with several sliding solutions, the one Newton reaches.
 
 #include <Eigen/Core>
 
 namespace plantar::coupling {
+
+/// How many solutions the local solve looks for.
+enum class LocalSearch {
+  first, ///< the preferred solution only (fast: about 20 ns when sticking or separating)
+  all,   ///< every solution (the 64-point scan always runs, about 1 us)
+};
 
 struct LocalSolution {
   Eigen::Vector3d impulse = Eigen::Vector3d::Zero(); ///< chosen solution, N s
@@ -31,9 +43,11 @@ struct LocalSolution {
 /// then the sliding solution closest to @p previous when several are valid.
 /// @param delassus A (3x3), m/(N s). @param velocity_rest q (3), m/s.
 /// @param normal_bias b, m/s. @param mu >= 0. @param previous p before the update.
+/// @param search LocalSearch::all (enumerate) or ::first (see above).
 /// Does not allocate.
 LocalSolution solve_local_contact(const Eigen::Matrix3d& delassus,
                                   const Eigen::Vector3d& velocity_rest, double normal_bias,
-                                  double mu, const Eigen::Vector3d& previous);
+                                  double mu, const Eigen::Vector3d& previous,
+                                  LocalSearch search = LocalSearch::all);
 
 } // namespace plantar::coupling

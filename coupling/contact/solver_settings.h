@@ -18,6 +18,10 @@ struct SolverSettings {
   int max_iterations = 500;
   /// Start from the impulses passed in (projected onto the cones) instead of zero.
   bool warm_start = true;
+  /// Gauss-Seidel: enumerate every solution of each local problem (LocalSearch::all, about
+  /// 1 us per contact and sweep) so that non-unique ones are counted; false: only the
+  /// preferred solution (LocalSearch::first, tens of ns), non-uniqueness not detected.
+  bool enumerate_local_solutions = false;
   /// ADMM: initial rho = rho_scale * mean diagonal of W. Range (0, inf).
   double rho_scale = 1.0;
   /// ADMM: proximal weight eta = proximal_scale * mean diagonal of W. Range [0, inf).
@@ -49,7 +53,8 @@ struct SolverResult {
   /// Natural-map (De Saxce) complementarity residual, max over contacts, m/s.
   double residual = 0.0;
   /// Gauss-Seidel: contacts whose last local problem had several solutions
-  /// (indeterminate, e.g. Painleve) or none (then a projection step was used).
+  /// (indeterminate, e.g. Painleve; counted only with enumerate_local_solutions) or none
+  /// (then a projection step was used).
   int n_nonunique_local = 0;
   int n_failed_local = 0;
   /// ADMM: factorisations done and final rho (m/(N s^2)).

@@ -15,15 +15,24 @@ void JointReference::sample(double t, RobotAngles& q_out, Eigen::Isometry3d& bas
   const int k = std::min(static_cast<int>(std::floor(t / period)), n - 1);
   const int k1 = std::min(k + 1, n - 1);
   const double w = k1 == k ? 0.0 : std::clamp((t - time(k)) / period, 0.0, 1.0);
-  q_out = ((1.0 - w) * q.row(k) + w * q.row(k1)).transpose();
+  // Cubic Hermite basis; tangents (per sample) by central differences, one-sided at the ends.
+  const double h00 = (2 * w - 3) * w * w + 1, h10 = ((w - 2) * w + 1) * w;
+  const double h01 = (3 - 2 * w) * w * w, h11 = (w - 1) * w * w;
+  const int km = std::max(k - 1, 0), k2 = std::min(k1 + 1, n - 1);
+  const double sk = k1 > km ? 1.0 / (k1 - km) : 0.0, sk1 = k2 > k ? 1.0 / (k2 - k) : 0.0;
+  q_out = (h00 * q.row(k) + h01 * q.row(k1) + (h10 * sk) * (q.row(k1) - q.row(km)) +
+           (h11 * sk1) * (q.row(k2) - q.row(k)))
+              .transpose();
   const Eigen::Quaterniond q0(base_orientation(k, 0), base_orientation(k, 1),
                               base_orientation(k, 2), base_orientation(k, 3));
   const Eigen::Quaterniond q1(base_orientation(k1, 0), base_orientation(k1, 1),
                               base_orientation(k1, 2), base_orientation(k1, 3));
   base_out.setIdentity();
   base_out.linear() = q0.slerp(w, q1).toRotationMatrix();
-  base_out.translation() =
-      ((1.0 - w) * base_position.row(k) + w * base_position.row(k1)).transpose();
+  base_out.translation() = (h00 * base_position.row(k) + h01 * base_position.row(k1) +
+                            (h10 * sk) * (base_position.row(k1) - base_position.row(km)) +
+                            (h11 * sk1) * (base_position.row(k2) - base_position.row(k)))
+                               .transpose();
 }
 
 void JointReference::resize(int n, double sample_period) {

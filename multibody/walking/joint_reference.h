@@ -21,9 +21,11 @@ struct JointReference {
   Eigen::MatrixX3d com;                                    ///< n x 3, CoM of the reference [m]
   int n_samples() const { return static_cast<int>(time.size()); }
   double duration() const { return time.size() ? time(time.size() - 1) : 0.0; }
-  /// Reference at any time t (for a simulation dt finer than the period): q linear between
-  /// samples, base position linear, base orientation by slerp; t is clamped to [0, duration].
-  /// No heap allocation.
+  /// Reference at any time t (for a simulation dt finer than the period): q and the base
+  /// position by cubic Hermite interpolation (Catmull-Rom: tangents (x_k+1 - x_k-1) / (2 period),
+  /// one-sided at the ends), so that q_ref is C1 and its finite-difference velocity has no jumps
+  /// at the samples (linear interpolation gave acceleration spikes growing like 1/dt); exact
+  /// for quadratics. Base orientation by slerp. t is clamped to [0, duration]. No heap allocation.
   void sample(double t, RobotAngles& q_out, Eigen::Isometry3d& base_out) const;
   /// Resizes every array for n samples at `sample_period` (time filled with k period).
   void resize(int n, double sample_period);

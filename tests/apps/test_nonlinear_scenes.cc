@@ -54,8 +54,9 @@ TEST(NonlinearScenes, DropDifferencesShrinkWithStiffness) {
       EXPECT_LT(acceleration, 0.10);
       EXPECT_GT(nonlinear.sole_recondensations, 0);
     }
-    if (young == 10e6)
+    if (young == 10e6) {
       EXPECT_LT(acceleration, 0.01);
+    }
   }
 }
 

@@ -201,6 +201,7 @@ TEST(HardCases, PainleveRod) {
       }
       world.settings.solver =
           s == 0 ? pc::ContactSolverType::gauss_seidel : pc::ContactSolverType::admm;
+      world.settings.enumerate_local_solutions = true; // count the indeterminate contacts
       const pc::SolverResult r = world.step(dt);
       const Eigen::Vector3d p = world.impulse(0);
       // Local analysis of the same one-contact problem: all solutions.

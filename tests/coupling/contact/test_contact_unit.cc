@@ -166,6 +166,49 @@ TEST(ContactUnit, LocalSolveSatisfiesContactLawOnRandomBlocks) {
   EXPECT_GT(n_kind[3], 10);
 }
 
+TEST(ContactUnit, FirstSearchEqualsPreferredOfEnumeration) {
+  // LocalSearch::first against the enumeration (LocalSearch::all) on random SPD blocks, from
+  // three starting points (zero, the enumerated solution perturbed, a random impulse): where the
+  // enumeration finds one solution, the fast search returns it (same kind, |dp| <= 1e-9 |p|).
+  // The sliding cases go through Newton on phi (or its fall-back scan, counted).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int n_unique = 0, n_sliding = 0, n_kind_mismatch = 0;
+  double worst = 0.0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Eigen::Matrix3d g;
+    for (int i = 0; i < 9; ++i)
+      g(i) = unit(rng);
+    g += (trial % 2 == 0 ? 1.2 : 0.3) * Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d a = g * g.transpose();
+    const Eigen::Vector3d q(unit(rng), 2 * unit(rng), 2 * unit(rng));
+    const double mu = trial % 7 == 0 ? 0.0 : 0.05 + 1.5 * std::abs(unit(rng));
+    const double b = 0.2 * unit(rng);
+    const pc::LocalSolution all = pc::solve_local_contact(a, q, b, mu, Eigen::Vector3d::Zero());
+    if (all.n_solutions != 1)
+      continue;
+    ++n_unique;
+    n_sliding += all.kind == pc::LocalSolution::Kind::sliding;
+    const Eigen::Vector3d starts[3] = {Eigen::Vector3d::Zero(),
+                                       all.impulse + 0.3 * Eigen::Vector3d(unit(rng), unit(rng), 0),
+                                       Eigen::Vector3d(1.0, unit(rng), unit(rng))};
+    for (const Eigen::Vector3d& start : starts) {
+      const pc::LocalSolution first =
+          pc::solve_local_contact(a, q, b, mu, start, pc::LocalSearch::first);
+      ASSERT_EQ(first.n_solutions, 1) << "trial " << trial;
+      n_kind_mismatch += first.kind != all.kind;
+      worst = std::max(worst, (first.impulse - all.impulse).norm() / (all.impulse.norm() + 1e-12));
+    }
+  }
+  std::printf("first vs all: %d unique problems (%d sliding) x 3 starts: kind mismatches %d, "
+              "max |p_first - p_all| / |p| = %.2e\n",
+              n_unique, n_sliding, n_kind_mismatch, worst);
+  EXPECT_GT(n_unique, 1500);
+  EXPECT_GT(n_sliding, 300);
+  EXPECT_EQ(n_kind_mismatch, 0);
+  EXPECT_LE(worst, 1e-9);
+}
+
 TEST(ContactUnit, SolversSatisfyComplementarityToReportedResidual) {
   // Random coupled problems (rigid rank 8 + a dense patch on all contacts, so
   // W is positive definite and the solution unique for these mu): both
@@ -336,6 +379,19 @@ TEST(ContactUnit, SettingsAndProblemValidationAndThrowHelper) {
   // Non-finite input data is rejected by validation.
   problem.free_velocity[4] = std::nan("");
   EXPECT_THROW(solver.solve(problem, pc::SolverSettings{}, p), std::invalid_argument);
+  // A non-finite operator entry: validate() rejects it; solve() (which skips that pass over W)
+  // reports non_finite with zero impulses, for both solvers.
+  problem.free_velocity[4] = -1.0;
+  problem.patches[0].compliance_over_dt(1, 1) = std::nan("");
+  EXPECT_THROW(problem.validate(), std::invalid_argument);
+  for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm}) {
+    pc::SolverSettings settings;
+    settings.solver = type;
+    p.setConstant(0.1);
+    const pc::SolverResult r = solver.solve(problem, settings, p);
+    EXPECT_EQ(r.status, pc::SolverStatus::non_finite) << pc::to_string(type);
+    EXPECT_EQ(p.head(9).norm(), 0.0);
+  }
 }
 
 TEST(ContactUnit, AdmmFactorisationReuseIsExact) {

@@ -391,17 +391,21 @@ TEST_F(WalkingPatternTest, SampleInterpolates) {
   RobotAngles q;
   Eigen::Isometry3d base;
   double max_error = 0.0;
-  for (int k = 100; k + 1 < ref.n_samples(); k += 97) {
+  for (int k = 100; k + 2 < ref.n_samples(); k += 97) {
     ref.sample(ref.time(k), q, base);
     max_error = std::max(max_error, (q - ref.q.row(k).transpose()).cwiseAbs().maxCoeff());
+    // Catmull-Rom at a quarter period, from its matrix form 0.5 [-t^3 + 2t^2 - t,
+    // 3t^3 - 5t^2 + 2, -3t^3 + 4t^2 + t, t^3 - t^2] at t = 1/4.
+    const double w[4] = {-0.0703125, 0.8671875, 0.2265625, -0.0234375};
     ref.sample(ref.time(k) + 0.25 * ref.period, q, base);
-    const RobotAngles expected = (0.75 * ref.q.row(k) + 0.25 * ref.q.row(k + 1)).transpose();
+    RobotAngles expected = RobotAngles::Zero();
+    Eigen::Vector3d expected_base = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 4; ++i) {
+      expected += w[i] * ref.q.row(k - 1 + i).transpose();
+      expected_base += w[i] * ref.base_position.row(k - 1 + i).transpose();
+    }
     max_error = std::max(max_error, (q - expected).cwiseAbs().maxCoeff());
-    max_error = std::max(
-        max_error,
-        (base.translation() -
-         (0.75 * ref.base_position.row(k) + 0.25 * ref.base_position.row(k + 1)).transpose())
-            .norm());
+    max_error = std::max(max_error, (base.translation() - expected_base).norm());
   }
   std::printf("sample(): interpolation error %.2e (tol 1e-12)\n", max_error);
   EXPECT_LT(max_error, 1e-12);
