@@ -178,7 +178,7 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
     fem::write_file_atomically(output / "parameters.prm",
                                [&](std::ostream& os) { os << text.str(); });
   }
-  std::vector<const SweepPoint*> todo;
+  std::vector<const SweepPoint*> pending;
   int n_done_before = 0;
   for (const SweepPoint& p : points) {
     if (done(p)) {
@@ -188,10 +188,10 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
     const std::string text = point_scene(scene_file, scene, p);
     fem::write_file_atomically(output / "points" / p.id / "scene.prm",
                                [&](std::ostream& os) { os << text; });
-    todo.push_back(&p);
+    pending.push_back(&p);
   }
   std::cout << "sweep: " << points.size() << " points, " << n_done_before << " already done, "
-            << todo.size() << " to run with " << jobs << " process" << (jobs > 1 ? "es" : "")
+            << pending.size() << " to run with " << jobs << " process" << (jobs > 1 ? "es" : "")
             << "\n"
             << std::flush;
 
@@ -199,9 +199,9 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
   std::map<pid_t, const SweepPoint*> running;
   std::size_t next = 0;
   int n_finished = 0;
-  while (next < todo.size() || !running.empty()) {
-    while (next < todo.size() && static_cast<int>(running.size()) < jobs) {
-      const SweepPoint* p = todo[next++];
+  while (next < pending.size() || !running.empty()) {
+    while (next < pending.size() && static_cast<int>(running.size()) < jobs) {
+      const SweepPoint* p = pending[next++];
       running[start_point(executable, output / "points" / p->id)] = p;
     }
     int status = 0;
@@ -215,7 +215,7 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
     running.erase(it);
     ++n_finished;
     const fs::path dir = output / "points" / p.id;
-    std::cout << "[" << n_finished << "/" << todo.size() << "] " << p.id << ": ";
+    std::cout << "[" << n_finished << "/" << pending.size() << "] " << p.id << ": ";
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(dir / "summary.csv")) {
       std::cout << "max |a_z| "
                 << read_summary_value(dir / "summary.csv", "max_waist_acceleration_z")
@@ -274,7 +274,7 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::ostringstream summary;
   summary << "sweep: " << scene_file.string() << " (" << scene.type << "), " << points.size()
-          << " points: " << n_done_before << " done before, " << todo.size() << " run now; "
+          << " points: " << n_done_before << " done before, " << pending.size() << " run now; "
           << n_failed << " failed, " << n_missing << " missing\n"
           << "wall time " << wall << " s with " << jobs << " process(es)\n";
   if (n_failed)

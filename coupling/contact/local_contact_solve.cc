@@ -42,6 +42,19 @@ bool same_solution(const Eigen::Vector3d& x, const Eigen::Vector3d& y, double sc
   return (x - y).norm() <= 1e-9 * scale;
 }
 
+// The sticking candidate p = -A^-1 (q + b e_n), when A is not singular (false otherwise).
+// @p in_cone: p is inside the cone K_mu (with relative slack 1e-10).
+bool sticking_candidate(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double normal_bias,
+                        double mu, double a_scale, Eigen::Vector3d& p, bool& in_cone) {
+  if (!(a_scale > 0.0) || !(std::abs(a.determinant()) > 1e-13 * a_scale * a_scale * a_scale))
+    return false;
+  Eigen::Vector3d rhs = q;
+  rhs[0] += normal_bias;
+  p = -a.inverse() * rhs;
+  in_cone = p[0] > 0.0 && std::hypot(p[1], p[2]) <= mu * p[0] * (1.0 + 1e-10);
+  return true;
+}
+
 // LocalSearch::first: the preferred solution without enumeration. Returns false when it
 // cannot decide (no sticking or separation, and Newton on phi fails), leaving the scan to it.
 bool solve_first(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double normal_bias, double mu,
@@ -68,20 +81,17 @@ bool solve_first(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double norm
     return true;
   }
   Eigen::Vector2d direction = previous.tail<2>();
-  const double det = a.determinant();
-  if (std::abs(det) > 1e-13 * a_scale * a_scale * a_scale && a_scale > 0.0) {
-    Eigen::Vector3d rhs = q;
-    rhs[0] += normal_bias;
-    const Eigen::Vector3d p = -a.inverse() * rhs;
-    const double t = std::hypot(p[1], p[2]);
-    if (p[0] > 0.0 && t <= mu * p[0] * (1.0 + 1e-10)) {
-      out.impulse = p;
+  Eigen::Vector3d p_stick;
+  bool in_cone = false;
+  if (sticking_candidate(a, q, normal_bias, mu, a_scale, p_stick, in_cone)) {
+    if (in_cone) {
+      out.impulse = p_stick;
       out.n_solutions = 1;
       out.kind = LocalSolution::Kind::sticking;
       return true;
     }
     if (!(direction.squaredNorm() > 0.0))
-      direction = p.tail<2>();
+      direction = p_stick.tail<2>();
   }
   if (!(direction.squaredNorm() > 0.0) || !direction.allFinite())
     return false;
@@ -147,7 +157,6 @@ LocalSolution solve_local_contact(const Eigen::Matrix3d& a, const Eigen::Vector3
   const double q_scale = std::max(std::abs(qn_b), q.tail<2>().norm());
   // Tolerances on validity checks, relative to the data.
   const double tol_velocity = 1e-12 * q_scale;
-  const double tol_rel = 1e-10;
 
   Eigen::Vector3d candidates[6];
   LocalSolution::Kind kinds[6];
@@ -168,15 +177,10 @@ LocalSolution solve_local_contact(const Eigen::Matrix3d& a, const Eigen::Vector3
 
   // Sticking (mu > 0; mu = 0 is handled as frictionless sliding below).
   if (mu > 0.0) {
-    const double det = a.determinant();
-    if (std::abs(det) > 1e-13 * a_scale * a_scale * a_scale && a_scale > 0.0) {
-      Eigen::Vector3d rhs = q;
-      rhs[0] += normal_bias;
-      const Eigen::Vector3d p = -a.inverse() * rhs;
-      const double t = std::hypot(p[1], p[2]);
-      if (p[0] > 0.0 && t <= mu * p[0] * (1.0 + tol_rel))
-        add(p, LocalSolution::Kind::sticking);
-    }
+    Eigen::Vector3d p;
+    bool in_cone = false;
+    if (sticking_candidate(a, q, normal_bias, mu, a_scale, p, in_cone) && in_cone)
+      add(p, LocalSolution::Kind::sticking);
   }
 
   // Sliding.
