@@ -1,7 +1,11 @@
 #pragma once
 // Runs the plantar program (PLANTAR_BINARY, defined by the test's CMake target) as users do.
 #include <array>
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
 #include <string>
 #include <sys/wait.h>
 
@@ -23,6 +27,17 @@ inline Outcome run_plantar(const std::string& arguments) {
     output += buffer.data();
   const int status = ::pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+/// The value of row `NAME,value` of a run's summary CSV; a test failure and NaN if absent.
+inline double summary_value(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind(name + ",", 0) == 0)
+      return std::stod(line.substr(name.size() + 1));
+  ADD_FAILURE() << file << " lacks " << name;
+  return NAN;
 }
 
 } // namespace plantar::test

@@ -18,6 +18,7 @@
 namespace {
 
 using plantar::test::Outcome;
+using plantar::test::summary_value;
 Outcome run(const std::string& arguments) {
   return plantar::test::run_plantar(arguments);
 }
@@ -68,16 +69,6 @@ void expect_png(const std::filesystem::path& file) {
   in.read(signature, 8);
   EXPECT_EQ(std::string(signature, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << file;
   EXPECT_TRUE(std::filesystem::exists(file) && std::filesystem::file_size(file) > 1000) << file;
-}
-
-double summary_value(const std::filesystem::path& file, const std::string& name) {
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind(name + ",", 0) == 0)
-      return std::stod(line.substr(name.size() + 1));
-  ADD_FAILURE() << file << " lacks " << name;
-  return NAN;
 }
 
 /// A comparison of two forms on a 0.4 s drop where the compliant ankle is made to fail (a

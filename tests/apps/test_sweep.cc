@@ -21,6 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using plantar::test::Outcome;
+using plantar::test::summary_value;
 Outcome run(const std::string& arguments) {
   return plantar::test::run_plantar(arguments);
 }
@@ -66,16 +67,6 @@ std::map<std::string, double> sweep_results(const fs::path& directory) {
   return results;
 }
 
-double summary_value(const fs::path& file, const std::string& name) {
-  std::ifstream in(file);
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind(name + ",", 0) == 0)
-      return std::stod(line.substr(name.size() + 1));
-  ADD_FAILURE() << file << " lacks " << name;
-  return NAN;
-}
-
 const char* const ids[] = {"fem_sole_dt1ms_E2MPa_nu0.1", "fem_sole_dt1ms_E2MPa_nu0.45",
                            "fem_sole_dt1ms_E8MPa_nu0.1", "fem_sole_dt1ms_E8MPa_nu0.45"};
 
@@ -101,9 +92,11 @@ TEST(Sweep, ParallelEqualsSerialAndFreshRunsAndResumes) {
     // Same binary, same inputs: identical to round-off.
     EXPECT_NEAR(a.at(id), b.at(id), 1e-12 * std::abs(a.at(id))) << id;
     // The sole's material reached the run: each point differs from the others.
-    for (const char* other : ids)
-      if (std::string(other) != id)
+    for (const char* other : ids) {
+      if (std::string(other) != id) {
         EXPECT_GT(std::abs(a.at(id) - a.at(other)), 1e-6 * a.at(id)) << id << " vs " << other;
+      }
+    }
   }
   // The point scene holds the material of its id.
   const std::string point_scene = read_text(parallel / "points" / ids[3] / "scene.prm");

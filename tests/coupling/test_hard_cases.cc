@@ -16,6 +16,7 @@
 //   dt) are asserted stable only.
 #include "condensation_test_utilities.h"
 #include "coupling/condensed_sole.h"
+#include "foot_block_model.h"
 #include "multibody/crba.h"
 #include "multibody/data.h"
 #include "multibody/stepper.h"
@@ -45,15 +46,7 @@ constexpr double E_ref = 4e6; // Pa, the sole of scenes/
 
 /// The foot: a uniform block, CoM at the link origin.
 Model foot_model() {
-  const double ixx = mass / 12 * (W * W + H * H), iyy = mass / 12 * (L * L + H * H),
-               izz = mass / 12 * (L * L + W * W);
-  char xml[1024];
-  std::snprintf(xml, sizeof xml,
-                "<robot name=\"foot\"><link name=\"foot\"><inertial><origin xyz=\"0 0 0\"/>"
-                "<mass value=\"%.17g\"/><inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" "
-                "iyz=\"0\" izz=\"%.17g\"/></inertial></link></robot>",
-                mass, ixx, iyy, izz);
-  return multibody::build_model_from_urdf_string(xml, {}, "foot block");
+  return ::plantar::test::foot_block_model(mass, L, W, H);
 }
 
 /// A condensed sole (top face attached at z = 0, bottom at z = -T), Young's modulus E_ref.

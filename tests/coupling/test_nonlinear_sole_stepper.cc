@@ -15,6 +15,7 @@
 #include "condensation_test_utilities.h"
 #include "coupling/nonlinear_condensed_sole.h"
 #include "fem/hyperelastic_law.h"
+#include "foot_block_model.h"
 #include "multibody/stepper.h"
 #include "multibody/urdf_loader.h"
 
@@ -34,15 +35,7 @@ constexpr double L = 0.2172, W = 0.138, T = 0.02, H = 0.1, mass = 58.0, g = 9.81
 constexpr double tolerance = 0.02; // re-condensation tolerance
 
 multibody::Model foot_model() {
-  const double ixx = mass / 12 * (W * W + H * H), iyy = mass / 12 * (L * L + H * H),
-               izz = mass / 12 * (L * L + W * W);
-  char xml[1024];
-  std::snprintf(xml, sizeof xml,
-                "<robot name=\"foot\"><link name=\"foot\"><inertial><origin xyz=\"0 0 0\"/>"
-                "<mass value=\"%.17g\"/><inertia ixx=\"%.17g\" ixy=\"0\" ixz=\"0\" iyy=\"%.17g\" "
-                "iyz=\"0\" izz=\"%.17g\"/></inertial></link></robot>",
-                mass, ixx, iyy, izz);
-  return multibody::build_model_from_urdf_string(xml, {}, "foot block");
+  return ::plantar::test::foot_block_model(mass, L, W, H);
 }
 
 std::unique_ptr<NonlinearCondensedSole> make_sole(double E) {
