@@ -7,6 +7,7 @@
 #include "multibody/kinematics.h"
 #include "multibody/rnea.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -56,8 +57,18 @@ void Stepper::resize_workspaces() {
   bias_start_.setZero(nv);
   v_mid_.setZero(nv);
   impulses_.setZero(3 * max);
-  problem_.resize(max, nv);
-  solver_.resize(max, nv);
+  // The contact rows see only the contact bodies' 6-dof motions: a rigid factor of rank
+  // 6 x (contact bodies) instead of nv when that is smaller.
+  const int n_slots = static_cast<int>(slot_body_.size());
+  reduce_rigid_ = 6 * n_slots < nv;
+  const int rank = reduce_rigid_ ? 6 * n_slots : nv;
+  reduced_gram_.setZero(rank, rank);
+  reduced_slots_.reserve(n_slots);
+  for (auto& z : slot_reduced_) {
+    z.setZero(6, rank);
+  }
+  problem_.resize(max, rank);
+  solver_.resize(max, rank);
   gap_.setZero(points_.size());
   v_before_.setZero(points_.size());
   lever_.assign(points_.size(), Eigen::Vector3d::Zero());
@@ -82,6 +93,7 @@ int Stepper::add_body_slot(int body) {
     slot_free_velocity_.push_back(Vector6d::Zero());
     slot_impulse_.push_back(Vector6d::Zero());
     slot_factored_.push_back(0);
+    slot_reduced_.emplace_back();
   }
   return body_slot_[body];
 }
@@ -146,17 +158,20 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
               friction,
               n_patch_points_,
               Eigen::VectorXd::Zero(3 * n),
-              Eigen::MatrixXd::Zero(3 * n, 3 * n),
+              compliance / (parameters_.time_step * parameters_.time_step),
               Eigen::VectorXd::Zero(3 * n),
               Eigen::VectorXd::Zero(3 * n),
               false,
-              Eigen::MatrixXd::Zero(3 * n, 3 * n),
               Eigen::Matrix3d::Identity(),
-              false};
+              Eigen::VectorXd::Zero(3 * n),
+              Eigen::VectorXd::Zero(3 * n),
+              false,
+              0};
   n_patch_points_ += n;
   add_body_slot(body);
   patches_.push_back(std::move(patch));
   problem_.patches.push_back(coupling::CompliantPatch{});
+  problem_.patches.back().warm_product.setZero(3 * n);
   resize_workspaces();
   return static_cast<int>(patches_.size()) - 1;
 }
@@ -177,19 +192,14 @@ double Stepper::evaluate_candidate(int point, double extra_gap) {
 
 void Stepper::fill_contact_rows(int k, int point) {
   const int s = body_slot_[points_[point].body];
-  if (!slot_factored_[s]) { // L^-1 J_b^T once per body and step
-    slot_factor_[s] = slot_jacobian_[s].transpose();
-    effective_mass_.triangularView<Eigen::Lower>().solveInPlace(slot_factor_[s]);
-    slot_factor_t_[s] = slot_factor_[s].transpose();
-    slot_factored_[s] = 1;
-  }
   // Rows S(r) (J_b L^-T) with S(r) = R_c^T [I, -[r]x], contact frame rows n = z, t1 = x,
   // t2 = y, written out (the zeros of S skipped): row n = H_2 + r_y H_3 - r_x H_4,
   // t1 = H_0 + r_z H_4 - r_y H_5, t2 = H_1 - r_z H_3 + r_x H_5, H = J_b L^-T.
   const Eigen::Vector3d& r = lever_[point];
-  const Eigen::Matrix<double, 6, Eigen::Dynamic>& h = slot_factor_t_[s];
+  const Eigen::Matrix<double, 6, Eigen::Dynamic>& h =
+      reduce_rigid_ ? slot_reduced_[s] : slot_factor_t_[s];
   Eigen::MatrixXd& g = problem_.rigid_factor;
-  for (int col = 0; col < model_.nv; ++col) {
+  for (int col = 0; col < g.cols(); ++col) {
     const double* hc = h.col(col).data();
     double* gc = g.col(col).data() + 3 * k;
     gc[0] = hc[2] + r.y() * hc[3] - r.x() * hc[4];
@@ -202,43 +212,17 @@ void Stepper::fill_contact_rows(int k, int point) {
   problem_.free_velocity[3 * k + 2] = f[1] - r.z() * f[3] + r.x() * f[5];
 }
 
-void Stepper::update_patch_blocks(Patch& patch, coupling::CompliantPatch& target) {
+void Stepper::update_patch_rotation(Patch& patch, coupling::CompliantPatch& target) {
   const Eigen::Matrix3d a = ground_frame_transpose() * data_.oMi[patch.body].rotation;
-  if (patch.blocks_valid && a == patch.rotation) {
-    return; // same C and rotation as the blocks held: nothing changes (exact)
-  }
-  // target = (I (x) a_s) C (I (x) a_s)^T, a_s = a / dt, over the upper blocks (r <= c):
-  // B = C (I (x) a_s)^T by column panels, then (I (x) a_s) B per 3-vector, the lower blocks
-  // mirrored (C symmetric): about half the time of the per-block products.
-  const double dt = parameters_.time_step;
-  const Eigen::Matrix3d a_s = a / dt;
   const int n_nodes = static_cast<int>(patch.nodes.cols());
-  const int size = 3 * n_nodes;
-  Eigen::MatrixXd& b = patch.rotated;
-  for (int c = 0; c < n_nodes; ++c) {
-    b.block(0, 3 * c, 3 * c + 3, 3).noalias() =
-        patch.compliance.block(0, 3 * c, 3 * c + 3, 3) * a_s.transpose();
-  }
-  // Column j of the upper blocks, each value also written to its mirror (j, i) below.
-  double* out = target.compliance_over_dt.data();
-  for (int j = 0; j < size; ++j) {
-    const double* from = b.col(j).data();
-    double* to = out + static_cast<Eigen::Index>(j) * size;
-    const int last = j / 3;           // block row of the diagonal block
-    for (int r = 0; r <= last; ++r) { // plain loop: Eigen's 3 x 3 by 3 x k product is slower
-      const double x = from[3 * r], y = from[3 * r + 1], z = from[3 * r + 2];
-      const double u = a_s(0, 0) * x + a_s(0, 1) * y + a_s(0, 2) * z;
-      const double v = a_s(1, 0) * x + a_s(1, 1) * y + a_s(1, 2) * z;
-      const double w = a_s(2, 0) * x + a_s(2, 1) * y + a_s(2, 2) * z;
-      to[3 * r] = u;
-      to[3 * r + 1] = v;
-      to[3 * r + 2] = w;
-      if (r < last) {
-        out[static_cast<Eigen::Index>(3 * r) * size + j] = u;
-        out[static_cast<Eigen::Index>(3 * r + 1) * size + j] = v;
-        out[static_cast<Eigen::Index>(3 * r + 2) * size + j] = w;
-      }
+  if (patch.has_last_solve) {
+    // Warm start: the last impulses carried with the body, p0 = a p_patch, whose patch-frame
+    // product is the one kept. (Extrapolating p0 linearly from the last two solves cuts the
+    // sweeps but, at loose tolerances, biases every solve forward: the open-loop walk fell.)
+    for (int k = 0; k < n_nodes; ++k) {
+      point_impulse_[patch.first_point + k].noalias() = a * patch.impulse.segment<3>(3 * k);
     }
+    target.warm_product = patch.product; // same size: no allocation
   }
   if (patch.has_offset) {
     for (int k = 0; k < n_nodes; ++k) {
@@ -246,7 +230,42 @@ void Stepper::update_patch_blocks(Patch& patch, coupling::CompliantPatch& target
     }
   }
   patch.rotation = a;
-  patch.blocks_valid = true;
+  target.rotation = a;
+}
+
+void Stepper::reduce_rigid_factor() {
+  // H H^T over the slots in contact (6 r x 6 r), then Z Z^T = H H^T by a Cholesky that keeps
+  // the semi-definite case (a pivot below 1e-13 of the largest diagonal: zero column).
+  const int r = static_cast<int>(reduced_slots_.size());
+  const int size = 6 * r;
+  auto gram = reduced_gram_.topLeftCorner(size, size);
+  for (int i = 0; i < r; ++i) {
+    for (int j = 0; j <= i; ++j) {
+      gram.block<6, 6>(6 * i, 6 * j).noalias() =
+          slot_factor_t_[reduced_slots_[i]] * slot_factor_[reduced_slots_[j]];
+    }
+  }
+  const double largest = gram.diagonal().maxCoeff();
+  for (int j = 0; j < size; ++j) {
+    double d = gram(j, j) - gram.row(j).head(j).squaredNorm();
+    if (!(d > 1e-13 * largest)) {
+      gram.col(j).tail(size - j).setZero();
+      continue;
+    }
+    d = std::sqrt(d);
+    gram(j, j) = d;
+    for (int i = j + 1; i < size; ++i) {
+      gram(i, j) = (gram(i, j) - gram.row(i).head(j).dot(gram.row(j).head(j))) / d;
+    }
+  }
+  for (int i = 0; i < r; ++i) {
+    Eigen::Matrix<double, 6, Eigen::Dynamic>& z = slot_reduced_[reduced_slots_[i]];
+    z.setZero();
+    z.leftCols(size) = gram.middleRows<6>(6 * i);
+    for (int row = 0; row < 6; ++row) { // the strict upper triangle holds H H^T: not Z
+      z.row(row).segment(6 * i + row + 1, size - 6 * i - row - 1).setZero();
+    }
+  }
 }
 
 void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::MatrixXd>& compliance,
@@ -280,7 +299,18 @@ void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::Matr
   target.compliance = compliance;
   target.offset = offset;
   target.has_offset = !offset.isZero(0.0);
-  target.blocks_valid = false;
+  const double dt = parameters_.time_step;
+  Eigen::MatrixXd& held = problem_.patches[patch].compliance_over_dt.size() != 0
+                              ? problem_.patches[patch].compliance_over_dt
+                              : target.parked;
+  held = compliance / (dt * dt);
+  target.has_last_solve = false;
+  if (target.has_offset) {
+    for (int k = 0; k < size / 3; ++k) {
+      target.offset_contact.segment<3>(3 * k).noalias() =
+          target.rotation * target.offset.segment<3>(3 * k);
+    }
+  }
 }
 
 StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
@@ -379,6 +409,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       target.first_contact = n;
       target.n_contacts = 0;
       patch.displacement.setZero(); // a massless sole relaxes when lifted
+      patch.has_last_solve = false;
       continue;
     }
     if (target.compliance_over_dt.size() == 0) {
@@ -387,7 +418,13 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     target.first_contact = n;
     target.n_contacts = n_nodes;
     lap(profile_.contact_build);
-    update_patch_blocks(patch, target);
+    update_patch_rotation(patch, target);
+    // The kept product C/dt^2 (I (x) a)^T p_prev is the solver's warm-start product, renewed
+    // from scratch after 50 sweeps of incremental updates (round-off).
+    target.warm_product_valid = patch.has_last_solve && patch.sweeps_since_fresh < 50;
+    if (!target.warm_product_valid) {
+      patch.sweeps_since_fresh = 0;
+    }
     lap(profile_.sole_update);
     for (int k = 0; k < n_nodes; ++k) {
       active_points_.push_back(patch.first_point + k);
@@ -405,7 +442,22 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   problem_.n_contacts = n;
 
   if (n > 0) {
-    // G = J_c L^-T, v_free,c, b, mu, warm start.
+    // L^-1 J_b^T once per body in contact; the reduced rigid factor over those bodies.
+    reduced_slots_.clear();
+    for (int k = 0; k < n; ++k) {
+      const int s = body_slot_[points_[active_points_[k]].body];
+      if (!slot_factored_[s]) {
+        slot_factor_[s] = slot_jacobian_[s].transpose();
+        effective_mass_.triangularView<Eigen::Lower>().solveInPlace(slot_factor_[s]);
+        slot_factor_t_[s] = slot_factor_[s].transpose();
+        slot_factored_[s] = 1;
+        reduced_slots_.push_back(s);
+      }
+    }
+    if (reduce_rigid_) {
+      reduce_rigid_factor();
+    }
+    // G (3 n x rank), v_free,c, b, mu, warm start.
     for (int k = 0; k < n; ++k) {
       const int point = active_points_[k];
       fill_contact_rows(k, point);
@@ -474,10 +526,21 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     point_impulse_[active_points_[k]] = impulses_.segment<3>(3 * k);
   }
   for (std::size_t j = 0; j < patches_.size(); ++j) {
-    if (problem_.patches[j].n_contacts > 0) {
-      coupling::patch_displacement(problem_.patches[j], impulses_, dt, patches_[j].displacement);
-      if (patches_[j].has_offset) {
-        patches_[j].displacement += patches_[j].offset_contact;
+    coupling::CompliantPatch& target = problem_.patches[j];
+    Patch& patch = patches_[j];
+    if (target.n_contacts > 0) {
+      // U_c = dt (I (x) a) C/dt^2 (I (x) a)^T p from the solver's product (no pass over C).
+      patch.product = solver_.patch_product(target);
+      patch.impulse = impulses_.segment(3 * target.first_contact, 3 * target.n_contacts);
+      coupling::rotate_to_patch(patch.rotation, patch.impulse);
+      patch.has_last_solve = true;
+      patch.sweeps_since_fresh += report.solver.iterations;
+      for (int k = 0; k < target.n_contacts; ++k) {
+        patch.displacement.segment<3>(3 * k).noalias() =
+            dt * (patch.rotation * patch.product.segment<3>(3 * k));
+      }
+      if (patch.has_offset) {
+        patch.displacement += patch.offset_contact;
       }
     }
   }

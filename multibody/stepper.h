@@ -157,13 +157,15 @@ private:
     double friction;
     int first_point;                // index of its first node in points_
     Eigen::VectorXd displacement;   // U_c of the last step, contact frames
-    Eigen::MatrixXd parked;         // holds compliance_over_dt storage while inactive
+    Eigen::MatrixXd parked;         // holds compliance_over_dt (C/dt^2) while inactive
     Eigen::VectorXd offset;         // d (body frame), set_patch_compliance
     Eigen::VectorXd offset_contact; // d in the contact frames of the current step
     bool has_offset = false;
-    Eigen::MatrixXd rotated;   // C (I (x) a)^T / dt, upper blocks only (sole_update workspace)
-    Eigen::Matrix3d rotation;  // a = R_c^T R_body of the blocks held in compliance_over_dt
-    bool blocks_valid = false; // compliance_over_dt (or parked) holds the blocks for rotation
+    Eigen::Matrix3d rotation;    // a = R_c^T R_body of the current step (patch -> contact)
+    Eigen::VectorXd product;     // w = C/dt^2 (I (x) a)^T p of the last solve (patch frame)
+    Eigen::VectorXd impulse;     // (I (x) a)^T p of the last solve (patch frame), N s
+    bool has_last_solve = false; // product and impulse hold the last step's solve
+    int sweeps_since_fresh = 0;  // solver sweeps since product was last computed afresh
   };
 
   void resize_workspaces();
@@ -175,7 +177,12 @@ private:
   double evaluate_candidate(int point, double extra_gap);
   /// Row block k (3 rows) of G and v_free,c for candidate @p point.
   void fill_contact_rows(int k, int point);
-  void update_patch_blocks(Patch& patch, coupling::CompliantPatch& target);
+  /// Sets the patch's rotation for this step (and its offset in the contact frames); rotates
+  /// the warm-start impulses of its nodes with the body so that the kept product stays valid.
+  void update_patch_rotation(Patch& patch, coupling::CompliantPatch& target);
+  /// Rigid factor with 6 columns per contact body: G_k = S_k Z_b, Z Z^T = H H^T, H the
+  /// stacked J_b L^-T of the bodies in contact (semi-definite Cholesky).
+  void reduce_rigid_factor();
 
   const Model& model_;
   StepperParameters parameters_;
@@ -197,9 +204,14 @@ private:
   std::vector<Eigen::MatrixXd> slot_factor_;                            // L^-1 J_b^T, nv x 6
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_factor_t_; // J_b L^-T
   std::vector<Vector6d> slot_velocity_, slot_free_velocity_, slot_impulse_;
-  std::vector<char> slot_factored_;    // slot_factor_ computed this step
-  Eigen::VectorXd impulses_;           // 3 max
-  Eigen::VectorXd gap_, v_before_;     // per candidate point
+  std::vector<char> slot_factored_; // slot_factor_ computed this step
+  // Reduced rigid factor (when 6 x slots < nv): Z Z^T = H H^T over the slots in contact.
+  bool reduce_rigid_ = false;
+  Eigen::MatrixXd reduced_gram_;   // 6 S x 6 S, H H^T then Z (lower)
+  std::vector<int> reduced_slots_; // slots in contact this step (capacity S)
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_reduced_; // rows of Z, 6 x 6 S
+  Eigen::VectorXd impulses_;                                           // 3 max
+  Eigen::VectorXd gap_, v_before_;                                     // per candidate point
   std::vector<Eigen::Vector3d> lever_; // per candidate point: r = p - o_b (world, m)
   std::vector<int> active_points_;     // capacity = number of points
   coupling::ContactProblem problem_;

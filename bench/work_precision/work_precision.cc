@@ -24,7 +24,7 @@
 // loop's process CPU time (std::clock) is recorded too, less sensitive to a loaded machine,
 // and the phase split is the steady_clock one.
 // The dense-operator bandwidth check: time per contact solve against one read pass over the
-// same number of bytes (the active patch blocks and G), measured here.
+// same number of bytes (the active patch blocks and G, 3n x rank), measured here.
 // Writes DIR/work_precision.csv and prints the table. Never passes or fails.
 
 #include "apps/humanoid_simulation.h"
@@ -159,9 +159,10 @@ void run_one(const Scene& scene, Result& result, int repeat) {
       }
       const auto& p = result.profile;
       if (p.n_solves > 0) {
-        // Dense operator of an average solve: rows x nv of G plus the active patch blocks.
+        // Dense operator of an average solve: rows x rank of G (6 per contact body) plus the
+        // active patch blocks.
         const double rows = double(p.n_solve_rows) / p.n_solves;
-        const double nv = simulation.model().nv;
+        const double nv = simulation.stepper().problem().rigid_rank();
         const double patch_rows = 3.0 * result.contacts_per_foot;
         const double n_patches = fem ? rows / patch_rows : 0;
         result.operator_bytes = 8 * (rows * nv + n_patches * patch_rows * patch_rows);

@@ -49,9 +49,15 @@ void patch_displacement(const CompliantPatch& patch,
                         Eigen::Ref<Eigen::VectorXd> displacement) {
   check_dt(dt, "patch_displacement");
   const int size = 3 * patch.n_contacts;
-  displacement.head(size).noalias() =
-      patch.compliance_over_dt * impulses.segment(3 * patch.first_contact, size);
-  displacement.head(size) *= dt;
+  auto u = displacement.head(size);
+  u.setZero();
+  for (int j = 0; j < size; j += 3) {
+    const Eigen::Vector3d p_patch =
+        patch.rotation.transpose() * impulses.segment<3>(3 * patch.first_contact + j);
+    u.noalias() += patch.compliance_over_dt.middleCols<3>(j) * p_patch;
+  }
+  rotate_from_patch(patch.rotation, u);
+  u *= dt;
 }
 
 } // namespace plantar::coupling

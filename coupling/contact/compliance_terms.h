@@ -19,7 +19,8 @@
 namespace plantar::coupling {
 
 /// Sets patch.compliance_over_dt = C / dt^2 (allocates only if the size changes).
-/// @param compliance C, (3 n x 3 n) with n = patch.n_contacts, m/N, contact frames.
+/// @param compliance C, (3 n x 3 n) with n = patch.n_contacts, m/N, patch frame
+/// (patch.rotation maps it to the contact frames).
 /// @param dt time step, s, > 0. Throws std::invalid_argument on size or dt.
 void set_patch_compliance(CompliantPatch& patch,
                           const Eigen::Ref<const Eigen::MatrixXd>& compliance, double dt);
@@ -30,7 +31,7 @@ void add_deformation_rate_term(const CompliantPatch& patch,
                                const Eigen::Ref<const Eigen::VectorXd>& previous_displacement,
                                double dt, ContactProblem& problem);
 
-/// U_c^t = dt (C/dt^2) p for the patch's contacts: the node displacements (m)
+/// U_c^t = dt (I (x) R) (C/dt^2) (I (x) R)^T p for the patch's contacts: the node displacements (m)
 /// after a solve, to pass as U_prev at the next step.
 /// @param impulses all impulses of the problem (>= 3 n_contacts), N s.
 /// @param displacement (3 patch.n_contacts), m. Does not allocate.

@@ -12,6 +12,20 @@ namespace {
 }
 } // namespace
 
+void rotate_to_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::VectorXd> x) {
+  for (Eigen::Index i = 0; i + 2 < x.size(); i += 3) {
+    const Eigen::Vector3d y = rotation.transpose() * x.segment<3>(i);
+    x.segment<3>(i) = y;
+  }
+}
+
+void rotate_from_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::VectorXd> x) {
+  for (Eigen::Index i = 0; i + 2 < x.size(); i += 3) {
+    const Eigen::Vector3d y = rotation * x.segment<3>(i);
+    x.segment<3>(i) = y;
+  }
+}
+
 void ContactProblem::validate(bool check_matrices) const {
   const int n_max = max_contacts();
   if (n_contacts < 0 || n_contacts > n_max)
@@ -53,6 +67,16 @@ void ContactProblem::validate(bool check_matrices) const {
            std::to_string(3 * patch.n_contacts) + " square");
     if (check_matrices && !patch.compliance_over_dt.allFinite())
       fail(name + ".compliance_over_dt has non-finite entries");
+    const double orthogonality =
+        (patch.rotation.transpose() * patch.rotation - Eigen::Matrix3d::Identity())
+            .cwiseAbs()
+            .maxCoeff();
+    if (!(orthogonality <= 1e-10))
+      fail(name + ".rotation is not orthonormal (max |R^T R - I| = " +
+           std::to_string(orthogonality) + ", allowed <= 1e-10)");
+    if (patch.warm_product_valid && patch.warm_product.size() < 3 * patch.n_contacts)
+      fail(name + ".warm_product has " + std::to_string(patch.warm_product.size()) +
+           " entries, expected >= " + std::to_string(3 * patch.n_contacts));
   }
 }
 
@@ -62,7 +86,8 @@ Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
   for (const CompliantPatch& patch : patches) {
     const int local = contact - patch.first_contact;
     if (local >= 0 && local < patch.n_contacts)
-      block += patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local);
+      block += patch.rotation * patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local) *
+               patch.rotation.transpose();
   }
   return block;
 }
@@ -74,11 +99,18 @@ void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
   const int m = rigid_rank();
   auto g = rigid_factor.topRows(n3);
   rigid_work.head(m).noalias() = g.transpose() * p.head(n3);
-  out.head(n3).noalias() = g * rigid_work.head(m);
+  out.head(n3).setZero();
   for (const CompliantPatch& patch : patches) {
+    // (I (x) R) C (I (x) R)^T p, by 3-column panels (no scratch).
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
-    out.segment(first, size).noalias() += patch.compliance_over_dt * p.segment(first, size);
+    auto segment = out.segment(first, size);
+    for (int j = 0; j < size; j += 3) {
+      const Eigen::Vector3d p_patch = patch.rotation.transpose() * p.segment<3>(first + j);
+      segment.noalias() += patch.compliance_over_dt.middleCols<3>(j) * p_patch;
+    }
+    rotate_from_patch(patch.rotation, segment);
   }
+  out.head(n3).noalias() += g * rigid_work.head(m);
 }
 
 void ContactProblem::assemble_delassus(Eigen::MatrixXd& delassus) const {
@@ -88,7 +120,11 @@ void ContactProblem::assemble_delassus(Eigen::MatrixXd& delassus) const {
   delassus.noalias() = g * g.transpose();
   for (const CompliantPatch& patch : patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
-    delassus.block(first, first, size, size) += patch.compliance_over_dt;
+    for (int i = 0; i < size; i += 3)
+      for (int j = 0; j < size; j += 3)
+        delassus.block<3, 3>(first + i, first + j) += patch.rotation *
+                                                      patch.compliance_over_dt.block<3, 3>(i, j) *
+                                                      patch.rotation.transpose();
   }
 }
 

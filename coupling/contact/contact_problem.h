@@ -11,7 +11,8 @@
 //   G (3n x m): the rigid part, J M^-1 J^T = G G^T with G = J L^-T, M = L L^T,
 //               so W_rigid is applied through its low rank m (<= n_v).
 //   C_j       : dense compliance of a compliant patch (a condensed sole,
-//               m/N), already rotated into the contact frames. The paper's
+//               m/N), (I (x) R_j) C_j,patch (I (x) R_j)^T with the block kept
+//               in the patch's frame (CompliantPatch::rotation). The paper's
 //               eq. 12 is written for forces F: (W_F + C/dt) F with
 //               W_F = dt J M^-1 J^T. With impulses p = F dt the same block is
 //               C/dt^2 (see docs/contact.md and compliance_terms.h).
@@ -37,16 +38,37 @@ namespace plantar::coupling {
 
 /// A dense compliance block acting on the contiguous contacts
 /// [first_contact, first_contact + n_contacts).
+///
+/// The block is held in the patch's own frame (e.g. the frame of the foot that
+/// carries the sole), so that it stays constant while the body rotates:
+///   W_patch = (I (x) R) compliance_over_dt (I (x) R)^T,
+/// R (3x3, orthonormal) mapping patch-frame components to contact-frame
+/// components, the same for every contact of the patch.
 struct CompliantPatch {
   int first_contact = 0;
   int n_contacts = 0;
   /// (3 n_contacts x 3 n_contacts), symmetric positive semi-definite, the
   /// compliance block of the impulse-form Delassus operator, C / dt^2 in the
-  /// contact frames, m/(N s^2). (The name follows eq. 12, where C/dt
+  /// patch frame, m/(N s^2). (The name follows eq. 12, where C/dt
   /// multiplies forces; set it with set_patch_compliance(), which divides the
   /// compliance C (m/N) by dt^2.)
   Eigen::MatrixXd compliance_over_dt;
+  /// R: contact frame <- patch frame (orthonormal; identity: the block is
+  /// already in the contact frames).
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  /// Optional warm-start product (3 n_contacts, m/s, patch frame):
+  /// compliance_over_dt (I (x) R)^T p0 for the impulses p0 the solver starts
+  /// from. Used by the Gauss-Seidel solver instead of the product (one pass
+  /// over the block) when warm_product_valid; the caller keeps it from
+  /// ContactSolver::patch_product() of the previous solve.
+  Eigen::VectorXd warm_product;
+  bool warm_product_valid = false;
 };
+
+/// x (3 n) <- (I (x) R^T) x: contact-frame vectors of a patch to its frame.
+void rotate_to_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::VectorXd> x);
+/// x (3 n) <- (I (x) R) x: patch-frame vectors to the contact frames.
+void rotate_from_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::VectorXd> x);
 
 struct ContactProblem {
   /// Allocates storage for up to @p max_contacts contacts and a rigid factor
@@ -70,13 +92,13 @@ struct ContactProblem {
   /// SolverStatus::non_finite instead). Does not allocate.
   void validate(bool check_matrices = true) const;
 
-  /// W_kk (3x3): diagonal block of contact k, G_k G_k^T + its patch block.
+  /// W_kk (3x3): diagonal block of contact k, G_k G_k^T + R C_kk R^T.
   Eigen::Matrix3d diagonal_block(int contact) const;
 
   /// out = W p for the leading 3 n_contacts rows, applying G G^T through its
-  /// low rank: out = G (G^T p) + blockdiag(C_j/dt^2) p.
+  /// low rank: out = G (G^T p) + blockdiag((I (x) R_j) C_j/dt^2 (I (x) R_j)^T) p.
   /// @param p (3 n_contacts) impulses, N s.
-  /// @param rigid_work (>= m) scratch for G^T p.
+  /// @param rigid_work (>= max(m, 3 n_contacts)) scratch.
   /// @param out (3 n_contacts) velocities, m/s. Does not allocate.
   void apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
                       Eigen::Ref<Eigen::VectorXd> rigid_work,

@@ -1,7 +1,9 @@
 #include "coupling/contact/contact_solver.h"
 
 #include "coupling/contact/coulomb_cone.h"
+#include "coupling/contact/dense_kernels.h"
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 
@@ -25,6 +27,7 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   eta_.setZero(max_contacts);
   patch_of_.setConstant(max_contacts, -1);
   patch_velocity_.setZero(n3);
+  projection_change_.setZero(n3);
   x_.setZero(n3);
   z_.setZero(n3);
   z_prev_.setZero(n3);
@@ -51,8 +54,28 @@ void ContactSolver::prepare(const ContactProblem& problem) {
     patch_of_.segment(patch.first_contact, patch.n_contacts).setConstant(static_cast<int>(j));
   }
   double trace_sum = 0.0;
+  const int m = problem.rigid_rank();
   for (int k = 0; k < n; ++k) {
-    const Eigen::Matrix3d block = problem.diagonal_block(k);
+    // W_kk = G_k G_k^T + R C_kk R^T (diagonal_block(), without its search for the patch).
+    double s00 = 0, s01 = 0, s02 = 0, s11 = 0, s12 = 0, s22 = 0;
+    for (int c = 0; c < m; ++c) { // G_k G_k^T, the 3 rows of column c adjacent in memory
+      const double* g = problem.rigid_factor.col(c).data() + 3 * k;
+      s00 += g[0] * g[0];
+      s01 += g[0] * g[1];
+      s02 += g[0] * g[2];
+      s11 += g[1] * g[1];
+      s12 += g[1] * g[2];
+      s22 += g[2] * g[2];
+    }
+    Eigen::Matrix3d block;
+    block << s00, s01, s02, s01, s11, s12, s02, s12, s22;
+    const int j = patch_of_[k];
+    if (j >= 0) {
+      const CompliantPatch& patch = problem.patches[j];
+      const int local = 3 * (k - patch.first_contact);
+      block.noalias() += patch.rotation * patch.compliance_over_dt.block<3, 3>(local, local) *
+                         patch.rotation.transpose();
+    }
     diag_blocks_.middleCols<3>(3 * k) = block;
     const double trace = block.trace();
     eta_[k] = trace > 0.0 ? 3.0 / trace : 1.0;
@@ -96,6 +119,26 @@ void ContactSolver::compute_velocity(const ContactProblem& problem,
   velocity_.head(n3) += problem.free_velocity.head(n3);
 }
 
+void ContactSolver::compute_patch_product(const CompliantPatch& patch,
+                                          const Eigen::Ref<const Eigen::VectorXd>& p) {
+  const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+  auto out = patch_velocity_.segment(first, size);
+  out.setZero();
+  for (int j = 0; j < size; j += 3) {
+    const Eigen::Vector3d p_patch = patch.rotation.transpose() * p.segment<3>(first + j);
+    add_three_columns(patch.compliance_over_dt.col(j).data(),
+                      patch.compliance_over_dt.outerStride(), size, p_patch.data(), out.data());
+  }
+}
+
+void ContactSolver::add_patch_velocities(const ContactProblem& problem) {
+  for (const CompliantPatch& patch : problem.patches) {
+    const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+    for (int i = first; i < first + size; i += 3)
+      velocity_.segment<3>(i).noalias() += patch.rotation * patch_velocity_.segment<3>(i);
+  }
+}
+
 SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
                                   Eigen::Ref<Eigen::VectorXd> impulses) {
   settings.validate();
@@ -120,13 +163,22 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
     impulses.head(3 * n).setZero();
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d p = impulses.segment<3>(3 * k);
-    impulses.segment<3>(3 * k) =
+    const Eigen::Vector3d projected =
         p.allFinite() ? project_onto_cone(p, problem.friction[k]) : Eigen::Vector3d::Zero();
+    impulses.segment<3>(3 * k) = projected;
+    // A caller's warm product is of the unprojected impulses: corrected by this change.
+    projection_change_.segment<3>(3 * k) = projected - p;
+    if (!p.allFinite())
+      projection_change_.segment<3>(3 * k).setConstant(std::nan(""));
   }
+  warm_products_usable_ = settings.warm_start;
   if (settings.solver == ContactSolverType::gauss_seidel)
     result = solve_gauss_seidel(problem, settings, impulses);
-  else
+  else {
     result = solve_admm(problem, settings, impulses);
+    for (const CompliantPatch& patch : problem.patches) // for patch_product()
+      compute_patch_product(patch, impulses);
+  }
   if (!impulses.head(3 * n).allFinite() || !std::isfinite(result.residual)) {
     result.status = SolverStatus::non_finite;
     impulses.head(3 * n).setZero();

@@ -55,6 +55,13 @@ public:
     return velocity_.head(3 * n_contacts);
   }
 
+  /// C_j/dt^2 (I (x) R_j)^T p of the last solve's impulses for @p patch (3 n_contacts of the
+  /// patch, m/s, patch frame): pass it back as CompliantPatch::warm_product when the next
+  /// solve starts from the same patch-frame impulses (saves one pass over the block).
+  Eigen::Ref<const Eigen::VectorXd> patch_product(const CompliantPatch& patch) const {
+    return patch_velocity_.segment(3 * patch.first_contact, 3 * patch.n_contacts);
+  }
+
   /// Patch Cholesky factorisations done since resize() (ADMM; reused ones not counted).
   long n_patch_factorizations() const { return n_patch_factorizations_; }
 
@@ -76,6 +83,11 @@ private:
   double residual(const ContactProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& p,
                   const Eigen::Ref<const Eigen::VectorXd>& v) const;
   void compute_velocity(const ContactProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& p);
+  // patch_velocity_[patch rows] = C (I (x) R)^T p (one pass over the block).
+  void compute_patch_product(const CompliantPatch& patch,
+                             const Eigen::Ref<const Eigen::VectorXd>& p);
+  // velocity_[patch rows] += (I (x) R) patch_velocity_[patch rows], every patch.
+  void add_patch_velocities(const ContactProblem& problem);
   SolverResult solve_gauss_seidel(const ContactProblem& problem, const SolverSettings& settings,
                                   Eigen::Ref<Eigen::VectorXd> impulses);
   SolverResult solve_admm(const ContactProblem& problem, const SolverSettings& settings,
@@ -94,7 +106,9 @@ private:
   Eigen::VectorXi patch_of_;    // N, patch index or -1
   double mean_diagonal_ = 1.0;
   // Gauss-Seidel.
-  Eigen::VectorXd patch_velocity_; // blockdiag(C_j/dt^2) p (3N)
+  Eigen::VectorXd patch_velocity_;    // C_j/dt^2 (I (x) R_j)^T p per patch, patch frames (3N)
+  Eigen::VectorXd projection_change_; // warm start projected onto the cones minus given (3N)
+  bool warm_products_usable_ = false; // settings.warm_start of this solve
   // ADMM.
   Eigen::VectorXd x_, z_, z_prev_, dual_, rhs_, tmp_; // 3N each
   Eigen::MatrixXd patch_factor_;                      // 3N x 3N, Cholesky of patch blocks + cI

@@ -48,7 +48,7 @@ bool ContactSolver::factorize(const ContactProblem& problem, double shift) {
   const int m = rigid_rank_;
   shift_ = shift;
   auto g = problem.rigid_factor.topRows(n3);
-  // D = blockdiag(C_j/dt^2 + c I) (patches, Cholesky in place), c I elsewhere.
+  // D = blockdiag(C_j/dt^2 + c I) (patches, in their frames, Cholesky in place), c I elsewhere.
   // A patch factor is reused when the shift, the range and the block equal
   // those of the last factorisation (exact comparison with a kept copy, O(n^2)).
   const int n_patches = static_cast<int>(problem.patches.size());
@@ -89,11 +89,14 @@ bool ContactSolver::factorize(const ContactProblem& problem, double shift) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
     if (size == 0)
       continue;
+    // D_j^-1 = (I (x) R) (C + c I)^-1 (I (x) R)^T (R orthonormal).
     auto factor = patch_factor_.block(first, first, size, size);
     for (int c = 0; c < m; ++c) {
       auto column = low_rank_.col(c).segment(first, size);
+      rotate_to_patch(patch.rotation, column);
       factor.triangularView<Eigen::Lower>().solveInPlace(column);
       factor.triangularView<Eigen::Lower>().transpose().solveInPlace(column);
+      rotate_from_patch(patch.rotation, column);
     }
   }
   // S = I + G^T H, Cholesky in place.
@@ -120,8 +123,10 @@ void ContactSolver::solve_shifted(const ContactProblem& problem,
       continue;
     auto factor = patch_factor_.block(first, first, size, size);
     auto segment = x.segment(first, size);
+    rotate_to_patch(patch.rotation, segment);
     factor.triangularView<Eigen::Lower>().solveInPlace(segment);
     factor.triangularView<Eigen::Lower>().transpose().solveInPlace(segment);
+    rotate_from_patch(patch.rotation, segment);
   }
   if (m == 0)
     return;

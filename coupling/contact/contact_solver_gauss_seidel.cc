@@ -3,6 +3,7 @@
 #include "coupling/contact/local_contact_solve.h"
 
 #include "coupling/contact/coulomb_cone.h"
+#include "coupling/contact/dense_kernels.h"
 
 namespace plantar::coupling {
 
@@ -16,33 +17,55 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   SolverResult result;
   const LocalSearch search =
       settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
-  // y = G^T p and the patch velocities, kept current through the sweep.
+  // y = G^T p and the patch velocities C_j (I (x) R_j)^T p (patch frames), kept current
+  // through the sweeps; a patch's product comes from the caller when it holds it.
   rigid_work_.head(m).noalias() = g.transpose() * p.head(n3);
   patch_velocity_.head(n3).setZero();
   for (const CompliantPatch& patch : problem.patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
-    patch_velocity_.segment(first, size).noalias() =
-        patch.compliance_over_dt * p.segment(first, size);
+    if (patch.warm_product_valid && warm_products_usable_) {
+      patch_velocity_.segment(first, size) = patch.warm_product.head(size);
+      for (int i = first; i < first + size; i += 3) { // the projection's change of p
+        const Eigen::Vector3d change = projection_change_.segment<3>(i);
+        if (!change.allFinite()) {
+          compute_patch_product(patch, p);
+          break;
+        }
+        if (change.squaredNorm() > 0.0) {
+          const Eigen::Vector3d change_patch = patch.rotation.transpose() * change;
+          add_three_columns(patch.compliance_over_dt.col(i - first).data(),
+                            patch.compliance_over_dt.outerStride(), size, change_patch.data(),
+                            patch_velocity_.data() + first);
+        }
+      }
+    } else {
+      compute_patch_product(patch, p);
+    }
   }
   for (int sweep = 1; sweep <= settings.max_iterations; ++sweep) {
     // Every 50 sweeps, recompute y and the patch velocities from scratch to
     // limit the round-off drift of the incremental updates.
     if (sweep % 50 == 0) {
       rigid_work_.head(m).noalias() = g.transpose() * p.head(n3);
-      for (const CompliantPatch& patch : problem.patches) {
-        const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
-        patch_velocity_.segment(first, size).noalias() =
-            patch.compliance_over_dt * p.segment(first, size);
-      }
+      for (const CompliantPatch& patch : problem.patches)
+        compute_patch_product(patch, p);
     }
     result.n_nonunique_local = 0;
     result.n_failed_local = 0;
     for (int k = 0; k < n; ++k) {
       const Eigen::Matrix3d block = diag_blocks_.middleCols<3>(3 * k);
       const Eigen::Vector3d p_old = p.segment<3>(3 * k);
-      Eigen::Vector3d v_k =
-          problem.free_velocity.segment<3>(3 * k) + patch_velocity_.segment<3>(3 * k);
-      v_k.noalias() += g.middleRows<3>(3 * k) * rigid_work_.head(m);
+      const int j = patch_of_[k];
+      Eigen::Vector3d v_k = problem.free_velocity.segment<3>(3 * k);
+      if (j >= 0)
+        v_k.noalias() += problem.patches[j].rotation * patch_velocity_.segment<3>(3 * k);
+      for (int c = 0; c < m; ++c) { // G_k y
+        const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
+        const double y_c = rigid_work_[c];
+        v_k[0] += g_c[0] * y_c;
+        v_k[1] += g_c[1] * y_c;
+        v_k[2] += g_c[2] * y_c;
+      }
       const Eigen::Vector3d q = v_k - block * p_old;
       const LocalSolution local =
           solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old, search);
@@ -62,19 +85,24 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
       if (delta.squaredNorm() == 0.0)
         continue;
       p.segment<3>(3 * k) = p_new;
-      rigid_work_.head(m).noalias() += g.middleRows<3>(3 * k).transpose() * delta;
-      const int j = patch_of_[k];
+      for (int c = 0; c < m; ++c) { // y += G_k^T dp
+        const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
+        rigid_work_[c] += g_c[0] * delta[0] + g_c[1] * delta[1] + g_c[2] * delta[2];
+      }
       if (j >= 0) {
         const CompliantPatch& patch = problem.patches[j];
         const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
         const int local_col = 3 * (k - patch.first_contact);
-        patch_velocity_.segment(first, size).noalias() +=
-            patch.compliance_over_dt.middleCols<3>(local_col) * delta;
+        const Eigen::Vector3d delta_patch = patch.rotation.transpose() * delta;
+        add_three_columns(patch.compliance_over_dt.col(local_col).data(),
+                          patch.compliance_over_dt.outerStride(), size, delta_patch.data(),
+                          patch_velocity_.data() + first);
       }
     }
     // Velocities of the current impulses (from the incremental state).
     velocity_.head(n3).noalias() = g * rigid_work_.head(m);
-    velocity_.head(n3) += problem.free_velocity.head(n3) + patch_velocity_.head(n3);
+    velocity_.head(n3) += problem.free_velocity.head(n3);
+    add_patch_velocities(problem);
     result.iterations = sweep;
     result.residual = residual(problem, p, velocity_);
     record(sweep, result.residual);

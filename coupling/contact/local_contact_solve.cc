@@ -51,7 +51,7 @@ bool sticking_candidate(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, doub
   Eigen::Vector3d rhs = q;
   rhs[0] += normal_bias;
   p = -a.inverse() * rhs;
-  in_cone = p[0] > 0.0 && std::hypot(p[1], p[2]) <= mu * p[0] * (1.0 + 1e-10);
+  in_cone = p[0] > 0.0 && std::sqrt(p[1] * p[1] + p[2] * p[2]) <= mu * p[0] * (1.0 + 1e-10);
   return true;
 }
 

@@ -1,9 +1,10 @@
-// The contact problem the stepper builds (G = J_c L^-T, v_free,c, the patch blocks
-// A C A^T / dt^2) and its velocity update v+ = v_free + M_eff^-1 J_c^T p, against a dense
-// reference: J_c from point_jacobian row by row, L from Eigen's LLT of M_eff assembled here,
-// the patch block from the dense Kronecker product (I (x) a) C (I (x) a)^T. The stepper
-// derives the rows from one Jacobian per body and the blocks from panel products over the
-// upper blocks; the two must agree to round-off (1e-12 relative).
+// The contact problem the stepper builds (W = G G^T + blockdiag(A C A^T / dt^2), v_free,c)
+// and its velocity update v+ = v_free + M_eff^-1 J_c^T p, against a dense reference: J_c from
+// point_jacobian row by row, L from Eigen's LLT of M_eff assembled here, J_c M_eff^-1 J_c^T =
+// g g^T with g = J_c L^-T, the patch block from the dense Kronecker product
+// (I (x) a) C (I (x) a)^T. The stepper derives a reduced G (6 columns per contact body,
+// G G^T = g g^T) from one Jacobian per body and keeps the patch block in the body frame with
+// its rotation; the two must agree to round-off (1e-12 relative).
 #include "multibody/crba.h"
 #include "multibody/data.h"
 #include "multibody/jacobian.h"
@@ -185,12 +186,20 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
       p.segment<3>(3 * k) = stepper.point_impulse(k - 12);
     }
     const Eigen::VectorXd v_plus = v_free + llt.solve(jc.transpose() * p);
-    const double e_g = relative_error(problem.rigid_factor.topRows(3 * n), g);
+    const auto g_stepper = problem.rigid_factor.topRows(3 * n);
+    const double e_g = relative_error(g_stepper * g_stepper.transpose(), g * g.transpose());
     const double e_vc = relative_error(problem.free_velocity.head(3 * n), vc);
-    const double e_block = relative_error(problem.patches[0].compliance_over_dt, patch_block(c));
+    Eigen::MatrixXd w_stepper;
+    problem.assemble_delassus(w_stepper);
+    Eigen::MatrixXd w_reference = g * g.transpose();
+    w_reference.topLeftCorner(36, 36) += patch_block(c);
+    const double e_block = relative_error(w_stepper, w_reference);
+    std::printf("rigid factor: %d columns for %d degrees of freedom\n",
+                static_cast<int>(problem.rigid_factor.cols()), static_cast<int>(g.cols()));
+    EXPECT_EQ(problem.rigid_factor.cols(), 18); // 6 per contact body (patch, left foot, hand)
     const double e_v = relative_error(v, v_plus);
-    std::printf("%s: %d contacts, |p| = %.3e N s; relative errors G %.2e, v_free,c %.2e, patch "
-                "block %.2e, v+ %.2e (tol 1e-12)\n",
+    std::printf("%s: %d contacts, |p| = %.3e N s; relative errors G G^T %.2e, v_free,c %.2e, "
+                "W %.2e, v+ %.2e (tol 1e-12)\n",
                 what, n, p.norm(), e_g, e_vc, e_block, e_v);
     EXPECT_GT(p.norm(), 0.0); // the update is exercised
     EXPECT_LT(e_g, 1e-12);
