@@ -2,6 +2,7 @@
 
 #include "coupling/contact/coulomb_cone.h"
 #include "coupling/contact/dense_kernels.h"
+#include "coupling/contact/local_contact_solve.h"
 
 #include <cmath>
 #include <sstream>
@@ -24,6 +25,8 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   rigid_work2_.setZero(rigid_rank);
   de_saxce_.setZero(max_contacts);
   diag_blocks_.setZero(3, n3);
+  diag_inverses_.setZero(3, n3);
+  has_inverse_.setZero(max_contacts);
   eta_.setZero(max_contacts);
   patch_of_.setConstant(max_contacts, -1);
   patch_velocity_.setZero(n3);
@@ -77,6 +80,10 @@ void ContactSolver::prepare(const ContactProblem& problem) {
                          patch.rotation.transpose();
     }
     diag_blocks_.middleCols<3>(3 * k) = block;
+    Eigen::Matrix3d inverse;
+    has_inverse_[k] = local_inverse(block, inverse) ? 1 : 0;
+    if (has_inverse_[k])
+      diag_inverses_.middleCols<3>(3 * k) = inverse;
     const double trace = block.trace();
     eta_[k] = trace > 0.0 ? 3.0 / trace : 1.0;
     trace_sum += trace;

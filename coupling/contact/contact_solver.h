@@ -99,11 +99,13 @@ private:
   int max_contacts_ = 0;
   int rigid_rank_ = 0;
   // Shared.
-  Eigen::VectorXd velocity_;    // W p + v_free (3N)
-  Eigen::VectorXd rigid_work_;  // m
-  Eigen::MatrixXd diag_blocks_; // 3 x 3N, W_kk
-  Eigen::VectorXd eta_;         // N, 3 / trace(W_kk)
-  Eigen::VectorXi patch_of_;    // N, patch index or -1
+  Eigen::VectorXd velocity_;      // W p + v_free (3N)
+  Eigen::VectorXd rigid_work_;    // m
+  Eigen::MatrixXd diag_blocks_;   // 3 x 3N, W_kk
+  Eigen::MatrixXd diag_inverses_; // 3 x 3N, W_kk^-1 where has_inverse_ (local_inverse)
+  Eigen::VectorXi has_inverse_;   // N
+  Eigen::VectorXd eta_;           // N, 3 / trace(W_kk)
+  Eigen::VectorXi patch_of_;      // N, patch index or -1
   double mean_diagonal_ = 1.0;
   // Gauss-Seidel.
   Eigen::VectorXd patch_velocity_;    // C_j/dt^2 (I (x) R_j)^T p per patch, patch frames (3N)

@@ -54,6 +54,7 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
     result.n_failed_local = 0;
     for (int k = 0; k < n; ++k) {
       const Eigen::Matrix3d block = diag_blocks_.middleCols<3>(3 * k);
+      const Eigen::Matrix3d inverse = diag_inverses_.middleCols<3>(3 * k);
       const Eigen::Vector3d p_old = p.segment<3>(3 * k);
       const int j = patch_of_[k];
       Eigen::Vector3d v_k = problem.free_velocity.segment<3>(3 * k);
@@ -68,7 +69,8 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
       }
       const Eigen::Vector3d q = v_k - block * p_old;
       const LocalSolution local =
-          solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old, search);
+          solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old, search,
+                              has_inverse_[k] ? &inverse : nullptr);
       Eigen::Vector3d p_new;
       if (local.n_solutions > 0) {
         p_new = local.impulse;

@@ -43,14 +43,20 @@ bool same_solution(const Eigen::Vector3d& x, const Eigen::Vector3d& y, double sc
 }
 
 // The sticking candidate p = -A^-1 (q + b e_n), when A is not singular (false otherwise).
-// @p in_cone: p is inside the cone K_mu (with relative slack 1e-10).
+// @p in_cone: p is inside the cone K_mu (with relative slack 1e-10). @p inverse: A^-1 if
+// the caller has it (local_inverse() was true), else nullptr.
 bool sticking_candidate(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double normal_bias,
-                        double mu, double a_scale, Eigen::Vector3d& p, bool& in_cone) {
-  if (!(a_scale > 0.0) || !(std::abs(a.determinant()) > 1e-13 * a_scale * a_scale * a_scale))
-    return false;
+                        double mu, const Eigen::Matrix3d* inverse, Eigen::Vector3d& p,
+                        bool& in_cone) {
+  Eigen::Matrix3d computed;
+  if (inverse == nullptr) {
+    if (!local_inverse(a, computed))
+      return false;
+    inverse = &computed;
+  }
   Eigen::Vector3d rhs = q;
   rhs[0] += normal_bias;
-  p = -a.inverse() * rhs;
+  p = -(*inverse) * rhs;
   in_cone = p[0] > 0.0 && std::sqrt(p[1] * p[1] + p[2] * p[2]) <= mu * p[0] * (1.0 + 1e-10);
   return true;
 }
@@ -58,9 +64,9 @@ bool sticking_candidate(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, doub
 // LocalSearch::first: the preferred solution without enumeration. Returns false when it
 // cannot decide (no sticking or separation, and Newton on phi fails), leaving the scan to it.
 bool solve_first(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double normal_bias, double mu,
-                 const Eigen::Vector3d& previous, LocalSolution& out) {
+                 const Eigen::Vector3d& previous, const Eigen::Matrix3d* inverse,
+                 LocalSolution& out) {
   const double qn_b = q[0] + normal_bias;
-  const double a_scale = a.diagonal().cwiseAbs().maxCoeff();
   const double q_scale = std::max(std::abs(qn_b), q.tail<2>().norm());
   const double tol_velocity = 1e-12 * q_scale;
   if (qn_b >= -tol_velocity) {
@@ -83,7 +89,7 @@ bool solve_first(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double norm
   Eigen::Vector2d direction = previous.tail<2>();
   Eigen::Vector3d p_stick;
   bool in_cone = false;
-  if (sticking_candidate(a, q, normal_bias, mu, a_scale, p_stick, in_cone)) {
+  if (sticking_candidate(a, q, normal_bias, mu, inverse, p_stick, in_cone)) {
     if (in_cone) {
       out.impulse = p_stick;
       out.n_solutions = 1;
@@ -146,11 +152,19 @@ bool solve_first(const Eigen::Matrix3d& a, const Eigen::Vector3d& q, double norm
 
 } // namespace
 
+bool local_inverse(const Eigen::Matrix3d& a, Eigen::Matrix3d& inverse) {
+  const double a_scale = a.diagonal().cwiseAbs().maxCoeff();
+  if (!(a_scale > 0.0) || !(std::abs(a.determinant()) > 1e-13 * a_scale * a_scale * a_scale))
+    return false;
+  inverse = a.inverse();
+  return true;
+}
+
 LocalSolution solve_local_contact(const Eigen::Matrix3d& a, const Eigen::Vector3d& q,
                                   double normal_bias, double mu, const Eigen::Vector3d& previous,
-                                  LocalSearch search) {
+                                  LocalSearch search, const Eigen::Matrix3d* inverse) {
   LocalSolution out;
-  if (search == LocalSearch::first && solve_first(a, q, normal_bias, mu, previous, out))
+  if (search == LocalSearch::first && solve_first(a, q, normal_bias, mu, previous, inverse, out))
     return out;
   const double qn_b = q[0] + normal_bias;
   const double a_scale = a.diagonal().cwiseAbs().maxCoeff();
@@ -179,7 +193,7 @@ LocalSolution solve_local_contact(const Eigen::Matrix3d& a, const Eigen::Vector3
   if (mu > 0.0) {
     Eigen::Vector3d p;
     bool in_cone = false;
-    if (sticking_candidate(a, q, normal_bias, mu, a_scale, p, in_cone) && in_cone)
+    if (sticking_candidate(a, q, normal_bias, mu, inverse, p, in_cone) && in_cone)
       add(p, LocalSolution::Kind::sticking);
   }
 

@@ -44,10 +44,16 @@ struct LocalSolution {
 /// @param delassus A (3x3), m/(N s). @param velocity_rest q (3), m/s.
 /// @param normal_bias b, m/s. @param mu >= 0. @param previous p before the update.
 /// @param search LocalSearch::all (enumerate) or ::first (see above).
-/// Does not allocate.
+/// @param inverse A^-1 from local_inverse() when the caller keeps it across calls with the
+/// same A (nullptr: computed here). Does not allocate.
 LocalSolution solve_local_contact(const Eigen::Matrix3d& delassus,
                                   const Eigen::Vector3d& velocity_rest, double normal_bias,
                                   double mu, const Eigen::Vector3d& previous,
-                                  LocalSearch search = LocalSearch::all);
+                                  LocalSearch search = LocalSearch::all,
+                                  const Eigen::Matrix3d* inverse = nullptr);
+
+/// A^-1 for the sticking candidate p = -A^-1 (q + b e_n) when A is invertible
+/// (|det A| > 1e-13 max|A_ii|^3); false otherwise (no sticking candidate).
+bool local_inverse(const Eigen::Matrix3d& delassus, Eigen::Matrix3d& inverse);
 
 } // namespace plantar::coupling
