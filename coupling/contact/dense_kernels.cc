@@ -4,9 +4,17 @@ namespace plantar::coupling {
 
 // One load of each column element and one fused multiply-add: with AVX2/FMA about one read
 // pass over the three columns; the baseline (SSE2) needs a multiply and an add per element.
-__attribute__((target_clones("arch=haswell", "default"))) void
-add_three_columns(const double* columns, Eigen::Index stride, Eigen::Index rows, const double* d,
-                  double* w) {
+// On x86-64 with GCC both versions are built and the loader picks one (ifunc, by CPU
+// features: "arch=haswell" would test the CPU model and miss other AVX2 CPUs); elsewhere the
+// compiler's own target.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define PLANTAR_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define PLANTAR_KERNEL_CLONES
+#endif
+
+PLANTAR_KERNEL_CLONES void add_three_columns(const double* columns, Eigen::Index stride,
+                                             Eigen::Index rows, const double* d, double* w) {
   const double d0 = d[0], d1 = d[1], d2 = d[2];
   const double* c0 = columns;
   const double* c1 = columns + stride;

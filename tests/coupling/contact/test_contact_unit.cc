@@ -4,6 +4,7 @@
 #include "coupling/contact/compliance_terms.h"
 #include "coupling/contact/contact_solver.h"
 #include "coupling/contact/coulomb_cone.h"
+#include "coupling/contact/dense_kernels.h"
 #include "coupling/contact/local_contact_solve.h"
 #include "coupling/contact/position_correction.h"
 #include "tests/coupling/contact/random_problem.h"
@@ -389,6 +390,26 @@ TEST(ContactUnit, RotatedPatchEqualsPreRotatedBlock) {
   bad = warm;
   bad.patches[0].warm_product.resize(3);
   EXPECT_THROW(bad.validate(), std::invalid_argument); // warm product too short
+}
+
+TEST(ContactUnit, ColumnKernelMatchesEigenProduct) {
+  // add_three_columns (the AVX2/FMA or baseline clone the loader chose) against Eigen's
+  // product, every length 1..67 (vector bodies and remainders) and a padded stride.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  double worst = 0.0;
+  for (int rows = 1; rows <= 67; ++rows) {
+    Eigen::MatrixXd c(rows + 5, 3);
+    for (int i = 0; i < c.size(); ++i)
+      c.data()[i] = unit(rng);
+    const Eigen::Vector3d d(unit(rng), unit(rng), unit(rng));
+    Eigen::VectorXd w = Eigen::VectorXd::NullaryExpr(rows, [&] { return unit(rng); });
+    const Eigen::VectorXd expected = w + c.topRows(rows) * d;
+    pc::add_three_columns(c.data(), c.rows(), rows, d.data(), w.data());
+    worst = std::max(worst, (w - expected).cwiseAbs().maxCoeff());
+  }
+  std::printf("column kernel vs Eigen: max |difference| %.2e (tol 1e-14)\n", worst);
+  EXPECT_LE(worst, 1e-14);
 }
 
 TEST(ContactUnit, NormalBiasHelper) {
