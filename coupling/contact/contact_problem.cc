@@ -81,8 +81,18 @@ void ContactProblem::validate(bool check_matrices) const {
 }
 
 Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
-  const auto g_k = rigid_factor.middleRows(3 * contact, 3);
-  Eigen::Matrix3d block = g_k * g_k.transpose();
+  double s00 = 0, s01 = 0, s02 = 0, s11 = 0, s12 = 0, s22 = 0;
+  for (int c = 0; c < rigid_rank(); ++c) { // G_k G_k^T, the 3 rows of column c adjacent
+    const double* g = rigid_factor.col(c).data() + 3 * contact;
+    s00 += g[0] * g[0];
+    s01 += g[0] * g[1];
+    s02 += g[0] * g[2];
+    s11 += g[1] * g[1];
+    s12 += g[1] * g[2];
+    s22 += g[2] * g[2];
+  }
+  Eigen::Matrix3d block;
+  block << s00, s01, s02, s01, s11, s12, s02, s12, s22;
   for (const CompliantPatch& patch : patches) {
     const int local = contact - patch.first_contact;
     if (local >= 0 && local < patch.n_contacts)

@@ -57,28 +57,8 @@ void ContactSolver::prepare(const ContactProblem& problem) {
     patch_of_.segment(patch.first_contact, patch.n_contacts).setConstant(static_cast<int>(j));
   }
   double trace_sum = 0.0;
-  const int m = problem.rigid_rank();
   for (int k = 0; k < n; ++k) {
-    // W_kk = G_k G_k^T + R C_kk R^T (diagonal_block(), without its search for the patch).
-    double s00 = 0, s01 = 0, s02 = 0, s11 = 0, s12 = 0, s22 = 0;
-    for (int c = 0; c < m; ++c) { // G_k G_k^T, the 3 rows of column c adjacent in memory
-      const double* g = problem.rigid_factor.col(c).data() + 3 * k;
-      s00 += g[0] * g[0];
-      s01 += g[0] * g[1];
-      s02 += g[0] * g[2];
-      s11 += g[1] * g[1];
-      s12 += g[1] * g[2];
-      s22 += g[2] * g[2];
-    }
-    Eigen::Matrix3d block;
-    block << s00, s01, s02, s01, s11, s12, s02, s12, s22;
-    const int j = patch_of_[k];
-    if (j >= 0) {
-      const CompliantPatch& patch = problem.patches[j];
-      const int local = 3 * (k - patch.first_contact);
-      block.noalias() += patch.rotation * patch.compliance_over_dt.block<3, 3>(local, local) *
-                         patch.rotation.transpose();
-    }
+    const Eigen::Matrix3d block = problem.diagonal_block(k);
     diag_blocks_.middleCols<3>(3 * k) = block;
     Eigen::Matrix3d inverse;
     has_inverse_[k] = local_inverse(block, inverse) ? 1 : 0;
