@@ -174,6 +174,7 @@ void write_summary_csv(const std::filesystem::path& path, const Scene& scene,
         << "sole_thickness,"
         << (scene.robot.foot_form == FootForm::fem_sole ? scene.sole.thickness : 0.0) << "\n"
         << "n_solves," << s.n_solves << "\n"
+        << "n_direct_solves," << s.n_direct_solves << "\n"
         << "mean_solver_iterations,"
         << (s.n_solves ? static_cast<double>(s.solver_iterations) / s.n_solves : 0.0) << "\n"
         << "max_solver_iterations," << s.max_solver_iterations << "\n"

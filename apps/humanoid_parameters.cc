@@ -185,6 +185,10 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Tolerance", "1e-8", Double(0),
                     "Natural-map residual (m/s) at which a contact solve has converged, > 0.");
   prm.declare_entry("Max iterations", "500", Integer(1), "Solver iterations per step.");
+  prm.declare_entry("Sticking direct solve", "true", Bool(),
+                    "When the warm start has every sole node sticking, solve the sticking "
+                    "system directly (Woodbury over the factorised sole blocks) and keep it if "
+                    "every impulse is in its cone (the exact solution); else iterate.");
   prm.declare_entry("Failure residual", "1e-4", Double(0),
                     "A solve that stops unconverged with a residual above this (m/s) stops the "
                     "run with an error; below it the step is counted as unconverged.");
@@ -197,6 +201,7 @@ void ContactParameters::parse(dealii::ParameterHandler& prm) {
   solver = prm.get("Solver");
   tolerance = prm.get_double("Tolerance");
   max_iterations = prm.get_integer("Max iterations");
+  sticking_direct = prm.get_bool("Sticking direct solve");
   failure_residual = prm.get_double("Failure residual");
   require(position_correction > 0, "Contact/Position correction", position_correction, "in (0, 1]");
   require(tolerance > 0, "Contact/Tolerance", tolerance, "> 0");

@@ -57,6 +57,7 @@ struct ContactParameters {
   std::string solver = "admm";      ///< admm | gauss-seidel
   double tolerance = 1e-8;          ///< m/s, natural-map residual, > 0
   int max_iterations = 500;         ///< >= 1
+  bool sticking_direct = true;      ///< direct solve when every contact sticks
   double failure_residual = 1e-4;   ///< m/s: an unconverged solve above this stops the run
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

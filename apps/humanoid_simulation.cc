@@ -142,6 +142,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
                                          : coupling::ContactSolverType::gauss_seidel;
   stepper_parameters.solver.tolerance = scene_.contact.tolerance;
   stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
+  stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
   const double mu = scene_.contact.friction;
 
   Eigen::Matrix3Xd nodes;          // sole frame
@@ -390,6 +391,7 @@ void HumanoidSimulation::step() {
   if (report.n_contacts > 0) {
     summary_.max_solver_residual = std::max(summary_.max_solver_residual, report.solver.residual);
     ++summary_.n_solves;
+    summary_.n_direct_solves += report.solver.direct ? 1 : 0;
     summary_.solver_iterations += report.solver.iterations;
     summary_.max_solver_iterations =
         std::max(summary_.max_solver_iterations, static_cast<int>(report.solver.iterations));

@@ -52,6 +52,7 @@ struct HumanoidSummary {
   int n_unconverged = 0;               ///< contact solves stopped above the tolerance
   double max_solver_residual = 0;      ///< m/s, over all solves
   int n_solves = 0;                    ///< contact solves (steps with active contacts)
+  int n_direct_solves = 0;             ///< of which solved directly (every contact sticking)
   long solver_iterations = 0;          ///< contact-solver iterations, summed over the solves
   int max_solver_iterations = 0;       ///< most iterations of one solve
   double max_penetration = 0;          ///< m, deepest contact point (deformed sole included)

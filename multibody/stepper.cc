@@ -68,6 +68,10 @@ void Stepper::resize_workspaces() {
     z.setZero(6, rank);
   }
   problem_.resize(max, rank);
+  for (auto& patch : problem_.patches) {
+    patch.lever_map.setZero(6, rank);
+    patch.lever_map_valid = false;
+  }
   solver_.resize(max, rank);
   gap_.setZero(points_.size());
   v_before_.setZero(points_.size());
@@ -172,6 +176,15 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
   patches_.push_back(std::move(patch));
   problem_.patches.push_back(coupling::CompliantPatch{});
   problem_.patches.back().warm_product.setZero(3 * n);
+  // The patch's rigid rows are (I (x) a) Lambda T with Lambda's node rows [I, -[rho]x] (body
+  // frame) and T = blockdiag(R_b^T, R_b^T) H_b: the structure of the direct sticking solve.
+  Eigen::MatrixXd lever = Eigen::MatrixXd::Zero(3 * n, 6);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d rho = nodes.col(k);
+    lever.block<3, 3>(3 * k, 0).setIdentity();
+    lever.block<3, 3>(3 * k, 3) << 0, rho.z(), -rho.y(), -rho.z(), 0, rho.x(), rho.y(), -rho.x(), 0;
+  }
+  coupling::set_sticking_structure(problem_.patches.back(), lever);
   resize_workspaces();
   return static_cast<int>(patches_.size()) - 1;
 }
@@ -304,6 +317,7 @@ void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::Matr
                               ? problem_.patches[patch].compliance_over_dt
                               : target.parked;
   held = compliance / (dt * dt);
+  coupling::set_sticking_structure(problem_.patches[patch], problem_.patches[patch].lever);
   target.has_last_solve = false;
   if (target.has_offset) {
     for (int k = 0; k < size / 3; ++k) {
@@ -457,6 +471,19 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     if (reduce_rigid_) {
       reduce_rigid_factor();
     }
+    // T = blockdiag(R_b^T, R_b^T) H_b of each patch in contact (CompliantPatch::lever_map).
+    for (std::size_t j = 0; j < patches_.size(); ++j) {
+      coupling::CompliantPatch& target = problem_.patches[j];
+      target.lever_map_valid = target.n_contacts > 0;
+      if (target.lever_map_valid) {
+        const int s = body_slot_[patches_[j].body];
+        const Eigen::Matrix<double, 6, Eigen::Dynamic>& h =
+            reduce_rigid_ ? slot_reduced_[s] : slot_factor_t_[s];
+        const Eigen::Matrix3d& rotation = data_.oMi[patches_[j].body].rotation;
+        target.lever_map.topRows<3>().noalias() = rotation.transpose() * h.topRows<3>();
+        target.lever_map.bottomRows<3>().noalias() = rotation.transpose() * h.bottomRows<3>();
+      }
+    }
     // G (3 n x rank), v_free,c, b, mu, warm start.
     for (int k = 0; k < n; ++k) {
       const int point = active_points_[k];
@@ -534,7 +561,9 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       patch.impulse = impulses_.segment(3 * target.first_contact, 3 * target.n_contacts);
       coupling::rotate_to_patch(patch.rotation, patch.impulse);
       patch.has_last_solve = true;
-      patch.sweeps_since_fresh += report.solver.iterations;
+      // A direct solve's product is fresh (no incremental updates).
+      patch.sweeps_since_fresh =
+          report.solver.direct ? 0 : patch.sweeps_since_fresh + report.solver.iterations;
       for (int k = 0; k < target.n_contacts; ++k) {
         patch.displacement.segment<3>(3 * k).noalias() =
             dt * (patch.rotation * patch.product.segment<3>(3 * k));

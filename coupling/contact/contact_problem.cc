@@ -1,5 +1,6 @@
 #include "coupling/contact/contact_problem.h"
 
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,16 @@ void rotate_from_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::Vector
     const Eigen::Vector3d y = rotation * x.segment<3>(i);
     x.segment<3>(i) = y;
   }
+}
+
+void set_sticking_structure(CompliantPatch& patch, const Eigen::Ref<const Eigen::MatrixXd>& lever) {
+  if (lever.cols() != 6 || lever.rows() % 3 != 0)
+    fail("set_sticking_structure: lever is " + std::to_string(lever.rows()) + "x" +
+         std::to_string(lever.cols()) + ", expected 3n x 6");
+  static std::atomic<long> next_version{1};
+  if (lever.data() != patch.lever.data())
+    patch.lever = lever;
+  patch.sticking_version = next_version++;
 }
 
 void ContactProblem::validate(bool check_matrices) const {

@@ -31,6 +31,29 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   patch_of_.setConstant(max_contacts, -1);
   patch_velocity_.setZero(n3);
   projection_change_.setZero(n3);
+  sticking_p_.setZero(n3);
+  sticking_c_.setZero(n3);
+  sticking_full_.setZero(n3);
+  sticking_work_.setZero(n3);
+  sticking_columns_.setZero(n3, 3);
+  active_factor_.setZero(n3, n3);
+  active_lever_solve_.setZero(n3, 6);
+  active_gram_.setZero(6, 6 * n3);
+  active_order_.setConstant(max_contacts, -1);
+  active_position_.setConstant(max_contacts, -1);
+  active_owner_.setConstant(max_contacts, -1);
+  active_version_.setConstant(max_contacts, -1);
+  active_first_.setConstant(max_contacts, -1);
+  active_size_.setConstant(max_contacts, -1);
+  active_count_.setZero(max_contacts);
+  active_updates_.setZero(max_contacts);
+  wanted_.setZero(max_contacts);
+  refused_wanted_.setZero(max_contacts);
+  refused_size_ = -1;
+  refused_skips_ = 0;
+  sticking_capacitance_.setZero(rigid_rank, rigid_rank);
+  sticking_y_.setZero(rigid_rank);
+  sticking_map_.setZero(6, rigid_rank);
   x_.setZero(n3);
   z_.setZero(n3);
   z_prev_.setZero(n3);
@@ -60,10 +83,6 @@ void ContactSolver::prepare(const ContactProblem& problem) {
   for (int k = 0; k < n; ++k) {
     const Eigen::Matrix3d block = problem.diagonal_block(k);
     diag_blocks_.middleCols<3>(3 * k) = block;
-    Eigen::Matrix3d inverse;
-    has_inverse_[k] = local_inverse(block, inverse) ? 1 : 0;
-    if (has_inverse_[k])
-      diag_inverses_.middleCols<3>(3 * k) = inverse;
     const double trace = block.trace();
     eta_[k] = trace > 0.0 ? 3.0 / trace : 1.0;
     trace_sum += trace;
@@ -159,6 +178,9 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
       projection_change_.segment<3>(3 * k).setConstant(std::nan(""));
   }
   warm_products_usable_ = settings.warm_start;
+  if (settings.sticking_direct && settings.warm_start &&
+      solve_sticking(problem, settings, impulses, result))
+    return result;
   if (settings.solver == ContactSolverType::gauss_seidel)
     result = solve_gauss_seidel(problem, settings, impulses);
   else {

@@ -92,6 +92,10 @@ private:
                                   Eigen::Ref<Eigen::VectorXd> impulses);
   SolverResult solve_admm(const ContactProblem& problem, const SolverSettings& settings,
                           Eigen::Ref<Eigen::VectorXd> impulses);
+  // The direct solve on the warm start's active set (contact_solver_sticking.cc): true when
+  // it was used (impulses, velocity_, patch_velocity_, result filled).
+  bool solve_sticking(const ContactProblem& problem, const SolverSettings& settings,
+                      Eigen::Ref<Eigen::VectorXd> impulses, SolverResult& result);
   bool factorize(const ContactProblem& problem, double shift);
   void solve_shifted(const ContactProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& rhs,
                      Eigen::Ref<Eigen::VectorXd> x);
@@ -111,6 +115,32 @@ private:
   Eigen::VectorXd patch_velocity_;    // C_j/dt^2 (I (x) R_j)^T p per patch, patch frames (3N)
   Eigen::VectorXd projection_change_; // warm start projected onto the cones minus given (3N)
   bool warm_products_usable_ = false; // settings.warm_start of this solve
+  // Direct solve on the warm start's active set (contact_solver_sticking.cc). Per patch j,
+  // the Cholesky factor of C_AA (its active nodes, in the order of the factor) is kept
+  // between solves at rows and columns 3 first_contact and updated node by node.
+  bool update_active_factor(const ContactProblem& problem, int j);
+  void remove_active_node(int first, int position);
+  bool append_active_node(const CompliantPatch& patch, int node);
+  Eigen::VectorXd sticking_p_;         // 3N, factor order: x = C_AA^-1 c~, then p~
+  Eigen::VectorXd sticking_c_;         // 3N, factor order: c~ = (I (x) R)^T (v_free + b e_n)
+  Eigen::VectorXd sticking_full_;      // 3N, candidate impulses (contact frames)
+  Eigen::VectorXd sticking_work_;      // 3N, rank-1 update vector
+  Eigen::MatrixXd sticking_columns_;   // 3N x 3, an appended node's columns
+  Eigen::MatrixXd active_factor_;      // 3N x 3N, L of C_AA per patch
+  Eigen::MatrixXd active_lever_solve_; // 3N x 6, C_AA^-1 Lambda_A (factor order)
+  Eigen::MatrixXd active_gram_;        // 6 x 18N, Lambda_A^T C_AA^-1 Lambda_A at column 18 first
+  Eigen::VectorXi active_order_;       // N: at first + i, the local node of position i
+  Eigen::VectorXi active_position_;    // N: position of contact k in its patch's factor, -1
+  Eigen::VectorXi active_owner_;       // N: patch whose factor occupies contact k's rows
+  Eigen::Matrix<long, Eigen::Dynamic, 1> active_version_; // per patch: sticking_version
+  Eigen::VectorXi active_first_, active_size_, active_count_, active_updates_; // per patch
+  Eigen::VectorXi wanted_;               // N: 1 where the warm start has p_n > 0
+  Eigen::VectorXi refused_wanted_;       // N: the prediction of the last refused candidate
+  int refused_size_ = -1;                // its n_contacts (-1: none refused since a success)
+  int refused_skips_ = 0;                // solves skipped since
+  Eigen::MatrixXd sticking_capacitance_; // m x m, Cholesky of I + G^T D_A^-1 G
+  Eigen::VectorXd sticking_y_;           // m
+  Eigen::Matrix<double, 6, Eigen::Dynamic> sticking_map_; // 6 x m, lever_gram lever_map
   // ADMM.
   Eigen::VectorXd x_, z_, z_prev_, dual_, rhs_, tmp_; // 3N each
   Eigen::MatrixXd patch_factor_;                      // 3N x 3N, Cholesky of patch blocks + cI

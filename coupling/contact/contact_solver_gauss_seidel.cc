@@ -17,6 +17,12 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   SolverResult result;
   const LocalSearch search =
       settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
+  for (int k = 0; k < n; ++k) { // W_kk^-1 for the sticking candidates of the local solves
+    Eigen::Matrix3d inverse;
+    has_inverse_[k] = local_inverse(diag_blocks_.middleCols<3>(3 * k), inverse) ? 1 : 0;
+    if (has_inverse_[k])
+      diag_inverses_.middleCols<3>(3 * k) = inverse;
+  }
   // y = G^T p and the patch velocities C_j (I (x) R_j)^T p (patch frames), kept current
   // through the sweeps; a patch's product comes from the caller when it holds it.
   rigid_work_.head(m).noalias() = g.transpose() * p.head(n3);

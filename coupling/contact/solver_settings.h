@@ -22,6 +22,14 @@ struct SolverSettings {
   /// 1 us per contact and sweep) so that non-unique ones are counted; false: only the
   /// preferred solution (LocalSearch::first, tens of ns), non-uniqueness not detected.
   bool enumerate_local_solutions = false;
+  /// Before iterating, solve directly on the warm start's prediction: contacts with p_n > 0
+  /// (strictly inside the cone) sticking, the others separated (p = 0). Needs every contact on
+  /// a patch with the sticking structure (CompliantPatch::lever, lever_map_valid,
+  /// sticking_version). W_AA p_A = -(v_free + b e_n)_A by Woodbury over the kept Cholesky
+  /// factors of the active sole blocks (updated node by node when the set changes); the result
+  /// is kept when it lies in the cones and meets the tolerance (then it is an exact solution),
+  /// else the iterative solver runs from the warm start.
+  bool sticking_direct = true;
   /// ADMM: initial rho = rho_scale * mean diagonal of W. Range (0, inf).
   double rho_scale = 1.0;
   /// ADMM: proximal weight eta = proximal_scale * mean diagonal of W. Range [0, inf).
@@ -60,6 +68,8 @@ struct SolverResult {
   /// ADMM: factorisations done and final rho (m/(N s^2)).
   int n_factorizations = 0;
   double rho = 0.0;
+  /// The solution came from the direct solve on the warm start's active set (iterations = 0).
+  bool direct = false;
   bool converged() const { return status == SolverStatus::converged; }
 };
 

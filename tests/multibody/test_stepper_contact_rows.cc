@@ -197,6 +197,17 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
     std::printf("rigid factor: %d columns for %d degrees of freedom\n",
                 static_cast<int>(problem.rigid_factor.cols()), static_cast<int>(g.cols()));
     EXPECT_EQ(problem.rigid_factor.cols(), 18); // 6 per contact body (patch, left foot, hand)
+    // The patch's factored rows (I (x) a) Lambda T (the direct solve's structure).
+    const coupling::CompliantPatch& patch = problem.patches[0];
+    ASSERT_TRUE(patch.sticking_version > 0 && patch.lever_map_valid);
+    const Eigen::MatrixXd factored = patch.lever * patch.lever_map;
+    Eigen::MatrixXd factored_contact(36, factored.cols());
+    for (int k = 0; k < 12; ++k) {
+      factored_contact.middleRows<3>(3 * k) = patch.rotation * factored.middleRows<3>(3 * k);
+    }
+    const double e_lever = relative_error(factored_contact, g_stepper.topRows(36));
+    std::printf("patch rows (I (x) a) Lambda T against G: %.2e (tol 1e-12)\n", e_lever);
+    EXPECT_LT(e_lever, 1e-12);
     const double e_v = relative_error(v, v_plus);
     std::printf("%s: %d contacts, |p| = %.3e N s; relative errors G G^T %.2e, v_free,c %.2e, "
                 "W %.2e, v+ %.2e (tol 1e-12)\n",

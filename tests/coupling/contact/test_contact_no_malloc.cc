@@ -6,6 +6,7 @@
 #include "coupling/contact/contact_solver.h"
 #include "coupling/contact/position_correction.h"
 #include "tests/coupling/contact/random_problem.h"
+#include "tests/coupling/contact/sticking_problem.h"
 
 #include <cstdio>
 #include <gtest/gtest.h>
@@ -78,5 +79,28 @@ TEST(ContactNoMalloc, LargePatchFactorisationDoesNotAllocate) {
                 pc::to_string(type), pc::to_string(r.status), r.iterations, r.residual,
                 r.n_factorizations);
     EXPECT_NE(r.status, pc::SolverStatus::non_finite);
+  }
+}
+
+TEST(ContactNoMalloc, StickingDirectSolveDoesNotAllocate) {
+  // Two soles of 40 nodes, every contact sticking: the direct solve (accepted) and a refused
+  // one (contact 3 outside its cone), both under the guard.
+  const int n_nodes = 40, m = 12, n = 2 * n_nodes;
+  pc::ContactSolver solver(n, m);
+  for (const int outside : {-1, 3}) {
+    const auto fixture =
+        plantar::coupling::test::sticking_problem(n_nodes, m, 1.0, 0.5, outside, 4);
+    Eigen::VectorXd impulses = 0.9 * fixture.solution;
+    impulses.segment<2>(3 * 3 + 1) *= 0.3;
+    pc::SolverSettings settings;
+    settings.solver = pc::ContactSolverType::gauss_seidel;
+    settings.max_iterations = 3000;
+    Eigen::internal::set_is_malloc_allowed(false);
+    const pc::SolverResult r = solver.solve(fixture.problem, settings, impulses);
+    Eigen::internal::set_is_malloc_allowed(true);
+    std::printf("sticking, contact %d outside: direct %d, %d sweeps, residual %.2e\n", outside,
+                r.direct, r.iterations, r.residual);
+    EXPECT_EQ(r.direct, outside < 0);
+    EXPECT_TRUE(r.converged());
   }
 }
