@@ -178,13 +178,7 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
   problem_.patches.back().warm_product.setZero(3 * n);
   // The patch's rigid rows are (I (x) a) Lambda T with Lambda's node rows [I, -[rho]x] (body
   // frame) and T = blockdiag(R_b^T, R_b^T) H_b: the structure of the direct sticking solve.
-  Eigen::MatrixXd lever = Eigen::MatrixXd::Zero(3 * n, 6);
-  for (int k = 0; k < n; ++k) {
-    const Eigen::Vector3d rho = nodes.col(k);
-    lever.block<3, 3>(3 * k, 0).setIdentity();
-    lever.block<3, 3>(3 * k, 3) << 0, rho.z(), -rho.y(), -rho.z(), 0, rho.x(), rho.y(), -rho.x(), 0;
-  }
-  coupling::set_sticking_structure(problem_.patches.back(), lever);
+  coupling::set_sticking_structure(problem_.patches.back(), coupling::rigid_lever(nodes));
   resize_workspaces();
   return static_cast<int>(patches_.size()) - 1;
 }

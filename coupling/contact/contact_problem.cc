@@ -27,6 +27,16 @@ void rotate_from_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::Vector
   }
 }
 
+Eigen::MatrixXd rigid_lever(const Eigen::Matrix3Xd& nodes) {
+  Eigen::MatrixXd lever = Eigen::MatrixXd::Zero(3 * nodes.cols(), 6);
+  for (Eigen::Index k = 0; k < nodes.cols(); ++k) {
+    const Eigen::Vector3d r = nodes.col(k);
+    lever.block<3, 3>(3 * k, 0).setIdentity();
+    lever.block<3, 3>(3 * k, 3) << 0, r.z(), -r.y(), -r.z(), 0, r.x(), r.y(), -r.x(), 0;
+  }
+  return lever;
+}
+
 void set_sticking_structure(CompliantPatch& patch, const Eigen::Ref<const Eigen::MatrixXd>& lever) {
   if (lever.cols() != 6 || lever.rows() % 3 != 0)
     fail("set_sticking_structure: lever is " + std::to_string(lever.rows()) + "x" +

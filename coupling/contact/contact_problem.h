@@ -78,6 +78,11 @@ struct CompliantPatch {
   long sticking_version = 0;
 };
 
+/// Lambda (3 n x 6) for nodes fixed to one rigid body: node k's rows [I, -[rho_k]x], rho_k
+/// the k-th column of @p nodes (3 x n, m, body frame), so that Lambda (v_o, w) gives the node
+/// velocities v_o + w x rho_k. Allocates.
+Eigen::MatrixXd rigid_lever(const Eigen::Matrix3Xd& nodes);
+
 /// Stores @p lever (3 n x 6, see CompliantPatch::lever) in @p patch and gives the patch a new
 /// sticking_version. Call it after every change of compliance_over_dt (the solver's factors of
 /// the block are then rebuilt). Allocates when the size changes.

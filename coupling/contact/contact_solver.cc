@@ -38,7 +38,7 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   sticking_columns_.setZero(n3, 3);
   active_factor_.setZero(n3, n3);
   active_lever_solve_.setZero(n3, 6);
-  active_gram_.setZero(6, 6 * n3);
+  active_gram_.setZero(6, 6 * max_contacts);
   active_order_.setConstant(max_contacts, -1);
   active_position_.setConstant(max_contacts, -1);
   active_owner_.setConstant(max_contacts, -1);

@@ -128,7 +128,7 @@ private:
   Eigen::MatrixXd sticking_columns_;   // 3N x 3, an appended node's columns
   Eigen::MatrixXd active_factor_;      // 3N x 3N, L of C_AA per patch
   Eigen::MatrixXd active_lever_solve_; // 3N x 6, C_AA^-1 Lambda_A (factor order)
-  Eigen::MatrixXd active_gram_;        // 6 x 18N, Lambda_A^T C_AA^-1 Lambda_A at column 18 first
+  Eigen::MatrixXd active_gram_;        // 6 x 6N, Lambda_A^T C_AA^-1 Lambda_A at column 6 first
   Eigen::VectorXi active_order_;       // N: at first + i, the local node of position i
   Eigen::VectorXi active_position_;    // N: position of contact k in its patch's factor, -1
   Eigen::VectorXi active_owner_;       // N: patch whose factor occupies contact k's rows

@@ -15,17 +15,6 @@ struct StickingProblem {
   Eigen::VectorXd solution; ///< p* (3 n), contact frames
 };
 
-/// Lambda (3 n x 6): node rows [I, -[rho]x] for the nodes' positions (columns of @p nodes).
-inline Eigen::MatrixXd lever_rows(const Eigen::Matrix3Xd& nodes) {
-  Eigen::MatrixXd lever = Eigen::MatrixXd::Zero(3 * nodes.cols(), 6);
-  for (Eigen::Index k = 0; k < nodes.cols(); ++k) {
-    const Eigen::Vector3d r = nodes.col(k);
-    lever.block<3, 3>(3 * k, 0).setIdentity();
-    lever.block<3, 3>(3 * k, 3) << 0, r.z(), -r.y(), -r.z(), 0, r.x(), r.y(), -r.x(), 0;
-  }
-  return lever;
-}
-
 /// Two patches of @p n_nodes nodes (a 0.24 x 0.12 m grid-like sole 0.1 m below the body
 /// origin, jittered), random SPD C/dt^2 (about @p patch_scale), random rotations R_j and maps
 /// T_j (6 x m), normal bias b_k in [0, 0.01] m/s. p* has p_n in [0.5, 1.5] N s and
@@ -62,7 +51,7 @@ inline StickingProblem sticking_problem(int n_nodes, int m, double patch_scale, 
       for (int c = 0; c < m; ++c)
         patch.lever_map(r, c) = 0.3 * unit(rng);
     patch.lever_map_valid = true;
-    const Eigen::MatrixXd lever = lever_rows(nodes);
+    const Eigen::MatrixXd lever = rigid_lever(nodes);
     set_sticking_structure(patch, lever);
     const Eigen::MatrixXd rows = lever * patch.lever_map; // patch frame
     for (int k = 0; k < n_nodes; ++k)
