@@ -283,6 +283,10 @@ void LeanSceneParameters::parse(dealii::ParameterHandler& prm) {
 
 void SimulationParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Time step", "0.001", Double(0, 0.01), "dt (s), (0, 0.01].");
+  prm.declare_entry("Theta", "1", Double(0.5, 1),
+                    "Moreau-Jean theta, [0.5, 1]: weight of the step's end in the joint springs, "
+                    "the sole forces and the position update. 1: the paper's eq. 4 (first "
+                    "order, damps stiff springs); 0.5: second order, no numerical damping.");
   prm.declare_entry("Duration", "0", Double(0),
                     "Simulated time (s); 0: the whole reference (lean, walk) or 5 s plus the "
                     "settle time (stand), 1 s (drop).");
@@ -298,6 +302,7 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
 
 void SimulationParameters::parse(dealii::ParameterHandler& prm) {
   time_step = prm.get_double("Time step");
+  theta = prm.get_double("Theta");
   duration = prm.get_double("Duration");
   settle_time = prm.get_double("Settle time");
   release_height = prm.get_double("Release height");

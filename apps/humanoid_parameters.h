@@ -94,6 +94,7 @@ struct LeanSceneParameters {
 /// Subsection "Simulation".
 struct SimulationParameters {
   double time_step = 1e-3;      ///< dt, s, (0, 0.01]
+  double theta = 1.0;           ///< Moreau-Jean theta, [0.5, 1] (multibody/stepper.h)
   double duration = 0;          ///< s, >= 0; 0: the whole reference (lean, walk), 5 s (stand, drop)
   double settle_time = 1.0;     ///< s, stand: time allowed to settle before the 1 mm window
   double release_height = 0.01; ///< m, drop: soles (or FEM sole bottoms) above the ground, >= 0

@@ -135,6 +135,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   // Stepper and feet.
   multibody::StepperParameters stepper_parameters;
   stepper_parameters.time_step = dt;
+  stepper_parameters.theta = scene_.simulation.theta;
   stepper_parameters.normal_bias.restitution = scene_.contact.restitution;
   stepper_parameters.normal_bias.position_correction = scene_.contact.position_correction;
   stepper_parameters.solver.solver = scene_.contact.solver == "admm"
@@ -218,6 +219,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
       coupling::rotate_compliance_to_contact_frames(sole_compliance, frame.placement.rotation,
                                                     identity_frames, compliance);
       const int patch = stepper_->add_compliant_patch(frame.body, body_nodes, compliance, mu);
+      stepper_->set_patch_damping(patch, scene_.sole.damping_time);
       for (int k = 0; k < n; ++k)
         feet_[foot].push_back({k, patch, frame.body, body_nodes.col(k)});
     } else {
@@ -322,7 +324,6 @@ void HumanoidSimulation::build_hyperelastic_soles(const dealii::Triangulation<3>
 }
 
 void HumanoidSimulation::update_hyperelastic_soles() {
-  const double dt = summary_.time_step;
   for (int foot = 0; foot < 2; ++foot) {
     coupling::NonlinearCondensedSole& sole = *hyperelastic_[foot];
     const multibody::Frame& frame = model_.frames[sole_frames_[foot]];
@@ -331,8 +332,8 @@ void HumanoidSimulation::update_hyperelastic_soles() {
         frame.placement.rotation.transpose() * data_.oMi[frame.body].rotation.transpose();
     int patch = -1;
     for (const FootContact& c : feet_[foot]) {
-      const Eigen::Vector3d& p = stepper_->node_impulse(c.patch, c.point);
-      sole_forces_.segment<3>(3 * c.point) = world_to_sole * Eigen::Vector3d(p[1], p[2], p[0]) / dt;
+      const Eigen::Vector3d f = stepper_->node_force(c.patch, c.point); // F at the step's end
+      sole_forces_.segment<3>(3 * c.point) = world_to_sole * Eigen::Vector3d(f[1], f[2], f[0]);
       patch = c.patch;
     }
     coupling::NonlinearUpdateReport report;
@@ -444,9 +445,11 @@ void HumanoidSimulation::step() {
     force[foot].setZero();
     moment[foot].setZero();
     for (const FootContact& c : feet_[foot]) {
-      const Eigen::Vector3d& p = c.patch >= 0 ? stepper_->node_impulse(c.patch, c.point)
-                                              : stepper_->point_impulse(c.point);
-      const Eigen::Vector3d f(p[1] / dt, p[2] / dt, p[0] / dt); // (n, t1, t2) -> (x, y, z)
+      // Sole nodes: the force at the step's end; points: the step's impulse / dt.
+      const Eigen::Vector3d p = c.patch >= 0
+                                    ? Eigen::Vector3d(stepper_->node_force(c.patch, c.point))
+                                    : Eigen::Vector3d(stepper_->point_impulse(c.point) / dt);
+      const Eigen::Vector3d f(p[1], p[2], p[0]); // (n, t1, t2) -> (x, y, z)
       const Eigen::Vector3d x = data_.oMi[c.body].act_point(c.position);
       force[foot] += f;
       moment[foot].x() += f.z() * x.x();

@@ -221,8 +221,7 @@ void SceneVtkWriter::write_sole(const HumanoidSimulation& simulation, int foot,
   const int patch = simulation.sole_patch(foot);
   const multibody::SE3 placement =
       multibody::frame_placement(simulation.model(), data_, simulation.sole_frame(foot));
-  const Eigen::Matrix3d& rotation = placement.rotation; // sole -> world
-  const double dt = stepper.time_step();
+  const Eigen::Matrix3d& rotation = placement.rotation;                 // sole -> world
   const Eigen::VectorXd& u_contact = stepper.patch_displacement(patch); // (n, t1, t2) = (z, x, y)
   const auto& dofs = linear ? linear->contact_dofs() : hyper->sole().contact_dofs();
   const int n_c = static_cast<int>(dofs.size());
@@ -231,8 +230,8 @@ void SceneVtkWriter::write_sole(const HumanoidSimulation& simulation, int foot,
   pressure_ = 0;
   for (int k = 0; k < n_c; ++k) {
     const Eigen::Vector3d u(u_contact[3 * k + 1], u_contact[3 * k + 2], u_contact[3 * k]);
-    const Eigen::Vector3d& p = stepper.node_impulse(patch, k);
-    const Eigen::Vector3d f(p[1] / dt, p[2] / dt, p[0] / dt);
+    const Eigen::Vector3d p = stepper.node_force(patch, k); // F at the step's end, U = C F
+    const Eigen::Vector3d f(p[1], p[2], p[0]);
     contact_u_.segment<3>(3 * k) = rotation.transpose() * u;
     for (int d = 0; d < 3; ++d) {
       contact_displacement_[dofs[k][d]] = u[d];

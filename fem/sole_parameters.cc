@@ -58,6 +58,10 @@ void SoleParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Check tolerance", "0.02", Double(0, 1),
                     "Hyperelastic only: Newton check of the sole when the contact forces moved "
                     "by more than this fraction since the last check, [0, 1].");
+  prm.declare_entry("Damping time", "0", Double(0, 0.1),
+                    "Linear model only: Kelvin-Voigt damping time beta (s), [0, 0.1]: "
+                    "stiffness-proportional material damping D = beta K (loss factor beta omega "
+                    "at angular frequency omega); 0: elastic, as in the paper.");
   prm.declare_entry("Linear solver", "direct", Selection("direct|iterative"),
                     "Sparse direct (UMFPACK) or PETSc CG + BoomerAMG for large meshes.");
   prm.declare_entry("Iterative tolerance", "1e-10", Double(1e-16, 1e-2),
@@ -85,6 +89,11 @@ void SoleParameters::parse(dealii::ParameterHandler& prm,
   mixed = prm.get("Formulation") == "mixed";
   recondensation_tolerance = positive(prm, "Recondensation tolerance");
   check_tolerance = prm.get_double("Check tolerance");
+  damping_time = prm.get_double("Damping time");
+  if (damping_time > 0 && model != "linear")
+    throw std::invalid_argument("Sole/Damping time = " + prm.get("Damping time") +
+                                " s with Sole/Model = " + model +
+                                ": damping is for the linear model only (allowed: 0)");
   // Check the linear laws' parameters now, so errors name the scene; other
   // laws are checked by their own classes.
   for (const auto& [region, spec] : parse_material_specs(materials, "Sole/Materials"))

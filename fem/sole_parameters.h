@@ -28,6 +28,9 @@ struct SoleParameters {
   bool mixed = false;                     ///< hyperelastic: mixed u-p formulation (no locking)
   double recondensation_tolerance = 0.02; ///< hyperelastic: prediction error e, > 0
   double check_tolerance = 0.02;          ///< hyperelastic: relative force change, [0, 1]
+  /// Kelvin-Voigt damping time beta (s), [0, 0.1]: stiffness-proportional damping D = beta K,
+  /// U + beta dU/dt = C F on the contact nodes (linear model only; 0 = elastic, the paper).
+  double damping_time = 0.0;
   LinearSolverSettings solver;
   std::filesystem::path cache_directory; ///< generated meshes; empty: default_mesh_cache()
 

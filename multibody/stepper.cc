@@ -32,6 +32,8 @@ void StepperParameters::validate() const {
     msg << "StepperParameters: max_contacts = " << max_contacts << ", allowed [0, 100000]";
   } else if (!(contact_margin >= 0.0)) {
     msg << "StepperParameters: contact_margin = " << contact_margin << " m, allowed [0, inf]";
+  } else if (!(theta >= 0.5 && theta <= 1.0)) {
+    msg << "StepperParameters: theta = " << theta << ", allowed [0.5, 1]";
   }
   if (!msg.str().empty()) {
     throw std::invalid_argument(msg.str());
@@ -162,7 +164,7 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
               friction,
               n_patch_points_,
               Eigen::VectorXd::Zero(3 * n),
-              compliance / (parameters_.time_step * parameters_.time_step),
+              compliance / std::pow(parameters_.theta * parameters_.time_step, 2),
               Eigen::VectorXd::Zero(3 * n),
               Eigen::VectorXd::Zero(3 * n),
               false,
@@ -170,7 +172,12 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
               Eigen::VectorXd::Zero(3 * n),
               Eigen::VectorXd::Zero(3 * n),
               false,
-              0};
+              0,
+              Eigen::VectorXd::Zero(3 * n),
+              false,
+              0.0,
+              Eigen::VectorXd::Zero(3 * n),
+              Eigen::VectorXd::Zero(3 * n)};
   n_patch_points_ += n;
   add_body_slot(body);
   patches_.push_back(std::move(patch));
@@ -303,22 +310,51 @@ void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::Matr
   if (asymmetry > 1e-9 * largest) {
     throw std::invalid_argument("Stepper::set_patch_compliance: compliance is not symmetric");
   }
+  if (target.damping > 0.0 && !offset.isZero(0.0)) {
+    throw std::invalid_argument("Stepper::set_patch_compliance: patch " + std::to_string(patch) +
+                                " is damped (set_patch_damping): an offset d is not supported");
+  }
   target.compliance = compliance;
   target.offset = offset;
   target.has_offset = !offset.isZero(0.0);
-  const double dt = parameters_.time_step;
-  Eigen::MatrixXd& held = problem_.patches[patch].compliance_over_dt.size() != 0
-                              ? problem_.patches[patch].compliance_over_dt
-                              : target.parked;
-  held = compliance / (dt * dt);
-  coupling::set_sticking_structure(problem_.patches[patch], problem_.patches[patch].lever);
-  target.has_last_solve = false;
+  set_patch_block(patch);
   if (target.has_offset) {
     for (int k = 0; k < size / 3; ++k) {
       target.offset_contact.segment<3>(3 * k).noalias() =
           target.rotation * target.offset.segment<3>(3 * k);
     }
   }
+}
+
+void Stepper::set_patch_block(int patch) {
+  Patch& target = patches_[patch];
+  const double dt = parameters_.time_step;
+  const double theta = parameters_.theta;
+  const double a = theta / (target.damping / dt + theta);
+  Eigen::MatrixXd& held = problem_.patches[patch].compliance_over_dt.size() != 0
+                              ? problem_.patches[patch].compliance_over_dt
+                              : target.parked;
+  held = target.compliance * (a / ((theta * dt) * (theta * dt)));
+  coupling::set_sticking_structure(problem_.patches[patch], problem_.patches[patch].lever);
+  target.has_last_solve = false;
+}
+
+void Stepper::set_patch_damping(int patch, double beta) {
+  if (patch < 0 || patch >= static_cast<int>(patches_.size())) {
+    throw std::invalid_argument("Stepper::set_patch_damping: patch " + std::to_string(patch) +
+                                ", allowed [0, " + std::to_string(patches_.size()) + ")");
+  }
+  if (!(beta >= 0.0) || !std::isfinite(beta)) {
+    std::ostringstream msg;
+    msg << "Stepper::set_patch_damping: beta = " << beta << " s, allowed [0, inf)";
+    throw std::invalid_argument(msg.str());
+  }
+  if (beta > 0.0 && patches_[patch].has_offset) {
+    throw std::invalid_argument("Stepper::set_patch_damping: patch " + std::to_string(patch) +
+                                " has an offset d (affine sole): damping is not supported");
+  }
+  patches_[patch].damping = beta;
+  set_patch_block(patch);
 }
 
 StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
@@ -331,6 +367,8 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   check_size(q_ref.size(), model_.nq, "Stepper::step: q_ref");
   check_size(v_ref.size(), model_.nv, "Stepper::step: v_ref");
   const double dt = parameters_.time_step;
+  const double theta = parameters_.theta;
+  const double theta_dt = theta * dt;
   const double margin = parameters_.contact_margin;
   StepReport report;
   using Clock = std::chrono::steady_clock;
@@ -342,12 +380,13 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   };
   ++profile_.n_steps;
 
-  // Free motion with linear-implicit springs: M_eff v_free = r.
+  // Free motion with linear-implicit springs at theta: M_eff v_free = r.
   nonlinear_effects(model_, data_, q, v); // also fills liMi, oMi, v
   crba_from_placements(model_, data_);
   effective_mass_ = data_.mass_matrix;
   rhs_.noalias() = data_.mass_matrix * v;
   rhs_ += dt * (tau - data_.bias);
+  const double lag = (1.0 - theta) * dt; // q_theta = q + theta (lag v + theta dt v+)
   for (int i = 1; i < model_.n_bodies; ++i) {
     if (model_.joint_type[i] == JointType::FreeFlyer) {
       continue;
@@ -358,12 +397,43 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     const double kd = gains_.damping[iv];
     const double ks = model_.passive_stiffness[iv];
     const double ds = model_.passive_damping[iv];
-    const double spring = kp * (q_ref[iq] - q[iq]) + ks * (model_.passive_rest[iv] - q[iq]);
     if (parameters_.implicit_gains) {
-      effective_mass_(iv, iv) += dt * (kd + ds) + dt * dt * (kp + ks);
-      rhs_[iv] += dt * (spring + kd * v_ref[iv]);
+      const double q_lag = q[iq] + theta * lag * v[iv];
+      const double spring =
+          kp * (q_ref[iq] - lag * v_ref[iv] - q_lag) + ks * (model_.passive_rest[iv] - q_lag);
+      effective_mass_(iv, iv) += theta * dt * (kd + ds) + theta_dt * theta_dt * (kp + ks);
+      rhs_[iv] += dt * (spring + kd * v_ref[iv] - (1.0 - theta) * (kd + ds) * v[iv]);
     } else {
+      const double spring = kp * (q_ref[iq] - q[iq]) + ks * (model_.passive_rest[iv] - q[iq]);
       rhs_[iv] += dt * (spring + kd * (v_ref[iv] - v[iv]) - ds * v[iv]);
+    }
+  }
+  // The contact bodies' Jacobians; theta < 1: the sole forces of the last step's end act over
+  // (1 - theta) of this step, a known generalized force J_b^T (f, r x f).
+  for (std::size_t s = 0; s < slot_body_.size(); ++s) {
+    body_origin_jacobian(model_, data_, slot_body_[s], slot_jacobian_[s]);
+    slot_velocity_[s].noalias() = slot_jacobian_[s] * v;
+    slot_impulse_[s].setZero();
+  }
+  bool any_force = false;
+  for (const Patch& patch : patches_) {
+    if (!patch.has_force || theta == 1.0) {
+      continue;
+    }
+    any_force = true;
+    const SE3& placement = data_.oMi[patch.body];
+    Vector6d& wrench = slot_impulse_[body_slot_[patch.body]];
+    for (int k = 0; k < patch.nodes.cols(); ++k) {
+      const Eigen::Vector3d f = patch.force.segment<3>(3 * k);
+      const Eigen::Vector3d world(f[1], f[2], f[0]); // R_c f
+      const Eigen::Vector3d r = placement.rotation * patch.nodes.col(k);
+      wrench.head<3>() += lag * world;
+      wrench.tail<3>() += r.cross(lag * world);
+    }
+  }
+  if (any_force) {
+    for (std::size_t s = 0; s < slot_body_.size(); ++s) {
+      rhs_.noalias() += slot_jacobian_[s].transpose() * slot_impulse_[s];
     }
   }
   // M_eff = L L^T in place (Eigen's unblocked kernel: at nv ~ 40 faster than LLT::compute's
@@ -388,8 +458,6 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   // Contact candidates: patches first (all nodes when any is active), then free points. Per
   // body carrying candidates: J_b, J_b v and J_b v_free once.
   for (std::size_t s = 0; s < slot_body_.size(); ++s) {
-    body_origin_jacobian(model_, data_, slot_body_[s], slot_jacobian_[s]);
-    slot_velocity_[s].noalias() = slot_jacobian_[s] * v;
     slot_free_velocity_[s].noalias() = slot_jacobian_[s] * v_free_;
     slot_factored_[s] = 0;
   }
@@ -417,6 +485,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       target.first_contact = n;
       target.n_contacts = 0;
       patch.displacement.setZero(); // a massless sole relaxes when lifted
+      patch.elastic.setZero();
       patch.has_last_solve = false;
       continue;
     }
@@ -486,20 +555,39 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       // An impact with restitution follows Newton's law alone (Moreau-Jean); otherwise a
       // contact activated before touching may close its gap within the step, no more:
       // normal_bias returns gap/dt for gap > 0 (adding it again let a landing sink by the gap).
-      problem_.normal_bias[k] =
-          coupling::normal_bias(gap, v_before_[point], dt, parameters_.normal_bias);
+      // A sole node's velocity is (x+ - x) / (theta dt) = v+ + (1-theta)/theta v (theta-mixed
+      // position update), so its gap is closed over theta dt.
+      const bool node = point < n_patch_points_;
+      problem_.normal_bias[k] = coupling::normal_bias(gap, v_before_[point], node ? theta_dt : dt,
+                                                      parameters_.normal_bias);
+      if (node && theta < 1.0) {
+        const Vector6d& b = slot_velocity_[body_slot_[points_[point].body]];
+        const Eigen::Vector3d& r = lever_[point];
+        const double c = (1.0 - theta) / theta;
+        problem_.free_velocity[3 * k] += c * (b[2] + r.y() * b[3] - r.x() * b[4]);
+        problem_.free_velocity[3 * k + 1] += c * (b[0] + r.z() * b[4] - r.y() * b[5]);
+        problem_.free_velocity[3 * k + 2] += c * (b[1] - r.z() * b[3] + r.x() * b[5]);
+      }
       problem_.friction[k] = points_[point].friction;
       impulses_.segment<3>(3 * k) = point_impulse_[point];
     }
     lap(profile_.contact_build);
     for (std::size_t j = 0; j < patches_.size(); ++j) {
       if (problem_.patches[j].n_contacts > 0) {
-        coupling::add_deformation_rate_term(problem_.patches[j], patches_[j].displacement, dt,
-                                            problem_);
-        if (patches_[j].has_offset) { // -(U_prev - d)/dt
+        Patch& patch = patches_[j];
+        if (patch.damping > 0.0) { // U - U_bar = (U - (1-theta) C F_prev) / (beta/dt + theta)
+          patch.relaxation =
+              (patch.displacement - (1.0 - theta) * patch.elastic) / (patch.damping / dt + theta);
+          coupling::add_deformation_rate_term(problem_.patches[j], patch.relaxation, theta_dt,
+                                              problem_);
+        } else {
+          coupling::add_deformation_rate_term(problem_.patches[j], patch.displacement, theta_dt,
+                                              problem_);
+        }
+        if (patches_[j].has_offset) { // -(U_prev - d) / (theta dt)
           problem_.free_velocity.segment(3 * problem_.patches[j].first_contact,
                                          patches_[j].offset_contact.size()) +=
-              patches_[j].offset_contact / dt;
+              patches_[j].offset_contact / theta_dt;
         }
       }
     }
@@ -534,23 +622,38 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       }
     }
     effective_mass_.triangularView<Eigen::Lower>().transpose().solveInPlace(dv_);
+    v_mid_ = (1.0 - theta) * v + theta * (v_free_ + dv_); // v_theta
     v = v_free_ + dv_;
   } else {
     report.solver.status = coupling::SolverStatus::converged;
+    v_mid_ = (1.0 - theta) * v + theta * v_free_;
     v = v_free_;
   }
   lap(profile_.dynamics);
+  // Impulses of the step; a patch node's adds the last step's force over (1 - theta) dt.
   for (auto& impulse : point_impulse_) {
     impulse.setZero();
   }
+  for (Patch& patch : patches_) {
+    if (patch.has_force) {
+      for (int k = 0; k < patch.nodes.cols(); ++k) {
+        point_impulse_[patch.first_point + k] = lag * patch.force.segment<3>(3 * k);
+      }
+      patch.force.setZero();
+      patch.has_force = false;
+    }
+  }
   for (int k = 0; k < n; ++k) {
-    point_impulse_[active_points_[k]] = impulses_.segment<3>(3 * k);
+    point_impulse_[active_points_[k]] += impulses_.segment<3>(3 * k);
   }
   for (std::size_t j = 0; j < patches_.size(); ++j) {
     coupling::CompliantPatch& target = problem_.patches[j];
     Patch& patch = patches_[j];
     if (target.n_contacts > 0) {
-      // U_c = dt (I (x) a) C/dt^2 (I (x) a)^T p from the solver's product (no pass over C).
+      // F = P / (theta dt); U_c = C F = theta dt (I (x) a) C/(theta dt)^2 (I (x) a)^T P from
+      // the solver's product (no pass over C).
+      patch.force = impulses_.segment(3 * target.first_contact, 3 * target.n_contacts) / theta_dt;
+      patch.has_force = true;
       patch.product = solver_.patch_product(target);
       patch.impulse = impulses_.segment(3 * target.first_contact, 3 * target.n_contacts);
       coupling::rotate_to_patch(patch.rotation, patch.impulse);
@@ -558,9 +661,17 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       // A direct solve's product is fresh (no incremental updates).
       patch.sweeps_since_fresh =
           report.solver.direct ? 0 : patch.sweeps_since_fresh + report.solver.iterations;
+      if (patch.damping > 0.0) {
+        patch.relaxation = patch.displacement - patch.relaxation; // U_bar (before U is renewed)
+      }
       for (int k = 0; k < target.n_contacts; ++k) {
         patch.displacement.segment<3>(3 * k).noalias() =
-            dt * (patch.rotation * patch.product.segment<3>(3 * k));
+            theta_dt * (patch.rotation * patch.product.segment<3>(3 * k));
+      }
+      if (patch.damping > 0.0) { // U+ = a C F + U_bar; C F = (a C F) / a for the next step
+        const double a = theta / (patch.damping / dt + theta);
+        patch.elastic = patch.displacement / a;
+        patch.displacement += patch.relaxation;
       }
       if (patch.has_offset) {
         patch.displacement += patch.offset_contact;
@@ -572,7 +683,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     throw std::runtime_error(
         "Stepper::step: non-finite velocity after the step (dt = " + std::to_string(dt) + " s)");
   }
-  integrate(model_, q, v, dt, q);
+  integrate(model_, q, v_mid_, dt, q);
   lap(profile_.dynamics);
   return report;
 }

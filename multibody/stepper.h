@@ -3,13 +3,26 @@
 // Moreau-Jean step) with linear-implicit joint springs, and frictional contact against the
 // ground plane z = 0 solved by coupling/contact.
 //
-// One step of length dt, from (q, v) to (q+, v+):
+// One step of length dt, from (q, v) to (q+, v+), theta in [1/2, 1] (Moreau-Jean theta
+// method; theta = 1 is the paper's eq. 4, the default):
 //   K = diag(k_pd + k_passive), D = diag(d_pd + d_passive)       (1-DoF joints, 0 on the base)
-//   M_eff = M(q) + dt D + dt^2 K                                  (implicit in q+ ~ q + dt v+)
-//   r     = M v + dt (tau - b(q, v) + k_pd (q_ref - q) + k_passive (q_rest - q) + d_pd v_ref)
+//   spring forces at theta (q+ + ... weighted): f_s = K (q_ref,theta - q_theta) + D (v_ref -
+//   v_theta) with v_theta = (1-theta) v + theta v+, q_theta = q + theta dt v_theta, q_ref,theta =
+//   q_ref - (1-theta) dt v_ref (q_ref at the step's end, v_ref its rate) M_eff = M(q) + theta dt D
+//   + theta^2 dt^2 K                    (linear-implicit) r     = M v + dt (tau - b(q, v) + K
+//   (q_ref,theta - q - theta (1-theta) dt v)
+//                     + D (v_ref - (1-theta) v)) + (1-theta) dt J_s^T F_s,prev
 //   M_eff v_free = r,  M_eff = L L^T
 //   v+ = v_free + M_eff^-1 J^T p,   p the contact impulses (N s) of the contact problem
-//   q+ = q (+) dt v+                                              (configuration.h)
+//   q+ = q (+) dt v_theta                                         (configuration.h)
+// Sole nodes (compliant patches) carry forces, not impacts: the impulse of a step is
+// dt ((1-theta) F_prev + theta F), F = P / (theta dt) the force at the step's end and P the
+// solver's unknown; the node's displacement at the end, U = C F (+ d), enters through the
+// theta-weighted node velocity (x+ - x) / (theta dt), so the sole block is C / (theta dt)^2,
+// the deformation-rate term -(U_prev - d) / (theta dt), the gap bias uses theta dt and the
+// free velocity gets (1-theta)/theta times the node's velocity at v. Free points keep
+// Moreau's impact law on v+. theta = 1/2 integrates linear springs (joints and soles) without
+// numerical damping, second order; theta = 1 damps them (first order).
 // With implicit_gains = false the springs are explicit instead (M_eff = M, forces at q, v):
 // kept to show that stiff gains diverge that way.
 //
@@ -54,6 +67,10 @@ struct StepperParameters {
   /// and triangular solve) instead of at v as in eq. 4. Second order in the gyroscopic and
   /// transport terms: removes most of the first-order energy drift of fast free rotations.
   bool midpoint_bias = false;
+  /// theta of the Moreau-Jean theta method, [0.5, 1]: weight of the step's end in the joint
+  /// springs, the sole forces and the position update (1: eq. 4, first order, damps the stiff
+  /// springs; 0.5: second order, no numerical damping of linear springs).
+  double theta = 1.0;
   coupling::NormalBiasParameters normal_bias; ///< restitution e, position correction
   coupling::SolverSettings solver;            ///< contact solver (ADMM by default)
   /// Throw std::runtime_error when the contact solver does not converge (default: only count
@@ -121,9 +138,16 @@ public:
   const Eigen::Vector3d& point_impulse(int point) const {
     return point_impulse_[n_patch_points_ + point];
   }
-  /// Same for node @p node of patch @p patch.
+  /// Same for node @p node of patch @p patch: the step's whole impulse,
+  /// dt ((1-theta) F_prev + theta F) (theta = 1: the solver's impulse).
   const Eigen::Vector3d& node_impulse(int patch, int node) const {
     return point_impulse_[patches_[patch].first_point + node];
+  }
+  /// Force on node @p node of patch @p patch at the end of the last step (N, contact frame):
+  /// F = P / (theta dt), the one the sole's displacement patch_displacement() = C F (+ d)
+  /// belongs to (theta = 1: node_impulse / dt).
+  const Eigen::Vector3d node_force(int patch, int node) const {
+    return patches_[patch].force.segment<3>(3 * node);
   }
   /// Sum of the last step's contact forces on the robot (N, world): impulses / dt.
   Eigen::Vector3d total_contact_force() const;
@@ -139,6 +163,17 @@ public:
   /// Throws std::invalid_argument on an index, size, asymmetry or non-finite value.
   void set_patch_compliance(int patch, const Eigen::Ref<const Eigen::MatrixXd>& compliance,
                             const Eigen::Ref<const Eigen::VectorXd>& offset);
+  /// Kelvin-Voigt damping of patch @p patch: U + beta dU/dt = C F (+ d), beta (s) >= 0 the
+  /// damping time of a stiffness-proportional (Rayleigh) sole damping D = beta K, which the
+  /// static condensation keeps exactly (the interior equations hold for w = u + beta du/dt).
+  /// Loss factor beta omega at angular frequency omega. Integrated with the step's theta:
+  ///   U+ = a C F + U_bar,  a = theta / (beta/dt + theta),
+  ///   U_bar = ((beta/dt - (1-theta)) U + (1-theta) C F_prev) / (beta/dt + theta),
+  /// so the sole block becomes a C / (theta dt)^2 and the deformation-rate term
+  /// -(U - U_bar) / (theta dt). A lifted sole still relaxes at once (massless, beta << swing).
+  /// beta = 0 after add_compliant_patch. Between steps only; does not allocate. Throws
+  /// std::invalid_argument on an index, a beta < 0 or not finite, or a patch with an offset d.
+  void set_patch_damping(int patch, double beta);
   double time_step() const { return parameters_.time_step; }
   /// Accumulated phase timings (a few clock reads per step, no allocation).
   const StepProfile& profile() const { return profile_; }
@@ -166,6 +201,11 @@ private:
     Eigen::VectorXd impulse;     // (I (x) a)^T p of the last solve (patch frame), N s
     bool has_last_solve = false; // product and impulse hold the last step's solve
     int sweeps_since_fresh = 0;  // solver sweeps since product was last computed afresh
+    Eigen::VectorXd force;       // F at the end of the last step (contact frame), N
+    bool has_force = false;      // force is not zero
+    double damping = 0;          // beta (s), Kelvin-Voigt
+    Eigen::VectorXd elastic;     // C F of the last step (contact frames), beta > 0
+    Eigen::VectorXd relaxation;  // U - U_bar of this step (contact frames), beta > 0
   };
 
   void resize_workspaces();
@@ -183,6 +223,8 @@ private:
   /// Rigid factor with 6 columns per contact body: G_k = S_k Z_b, Z Z^T = H H^T, H the
   /// stacked J_b L^-T of the bodies in contact (semi-definite Cholesky).
   void reduce_rigid_factor();
+  /// a C / (theta dt)^2 into the patch's held block (see set_patch_damping).
+  void set_patch_block(int patch);
 
   const Model& model_;
   StepperParameters parameters_;

@@ -26,3 +26,6 @@ $pin "$bench" "$root/scenes/walk.prm" --out "$out/targets_scene" --base-only --r
   tee "$out/targets_scene.txt"
 $pin "$bench" "$here/drop_fast.prm" "$here/walk_fast.prm" --out "$out/targets_fast" --base-only \
   --repeat 2 | tee "$out/targets_fast.txt"
+# The damped-sole walk (Kelvin-Voigt beta = 1 ms, theta = 1/2): fast setting and reference.
+$pin "$bench" "$here/walk_damped_fast.prm" "$here/walk_damped_reference.prm" \
+  --out "$out/targets_damped" --base-only --repeat 2 | tee "$out/targets_damped.txt"

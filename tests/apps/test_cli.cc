@@ -307,6 +307,13 @@ TEST(Cli, BadScenesGiveOneClearErrorAndNoOutput) {
       {"sweep-e",
        "subsection Sweep\n  set Young's moduli = 1e6, -2\nend\n",
        {"Sweep/Young's moduli", "-2", "> 0"}},
+      {"theta",
+       "subsection Simulation\n  set Theta = 0.4\nend\n",
+       {"Theta", "0.4", "Double 0.5...1"}},
+      {"damping-hyper",
+       "subsection Sole\n  set Model = hyperelastic\n  set Materials = rubber: law=neo_hookean, "
+       "E=4e6, nu=0.3\n  set Damping time = 0.001\nend\n",
+       {"Sole/Damping time", "0.001", "linear model only"}},
       {"sweep-dt",
        "subsection Sweep\n  set Time steps = 0.001, 0.5\nend\n",
        {"Sweep/Time steps", "0.5", "(0, 0.01]"}},
