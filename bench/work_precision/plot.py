@@ -19,8 +19,8 @@ for scene in sorted({r["scene"] for r in rows}):
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
     rigid = [r for r in rows if r["scene"] == scene and r["knob"] == "rigid feet"]
     for ax, (key, title) in zip(axes, errors):
-        for knob in ["mesh size", "degree", "time step", "tolerance", "sole model",
-                     "hyperelastic tol"]:
+        for knob in ["mesh size", "degree", "time step", "damped theta 1/2 dt", "tolerance",
+                     "sole model", "hyperelastic tol"]:
             pts = []
             for r in rows:
                 if r["scene"] != scene or r["knob"] != knob or r["status"] != "ok":

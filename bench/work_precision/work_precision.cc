@@ -5,7 +5,8 @@
 //
 // For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole
 // scene unless given), one knob at a time is varied from the scene's own setting, the others
-// kept: sole mesh size, element degree, time step, contact solver tolerance, sole model
+// kept: sole mesh size, element degree, time step, the time step with the theta = 1/2 stepper
+// on a Kelvin-Voigt sole ("damped theta 1/2 dt"), contact solver tolerance, sole model
 // (reduced patches nx x ny, full) and the hyperelastic sole (Neo-Hookean, same E and nu, full
 // sole; Sole/Recondensation tolerance = Sole/Check tolerance varied). Each knob's finest value
 // is that knob's reference; the row "linear vs hyper" is the linear full sole against the
@@ -328,6 +329,20 @@ int main(int argc, char** argv) {
       for (double f : {4.0, 2.0, 1.0, 0.5, 0.25, 0.125})
         v.push_back({"time step", fmt(dt0 * f, "%.3g"),
                      [d = dt0 * f](Scene& s) { s.simulation.time_step = d; }});
+      knobs.push_back(v);
+    }
+    {
+      // The time step with the theta = 1/2 stepper on a Kelvin-Voigt sole (the scene's
+      // Sole/Damping time, 1 ms if it has none): the setting whose peak converges in dt
+      // (docs/performance.md, walk_damped_fast.prm).
+      const double beta = base.sole.damping_time > 0 ? base.sole.damping_time : 1e-3;
+      std::vector<Variant> v;
+      for (double f : {2.0, 1.0, 0.8, 0.5, 0.25, 0.125})
+        v.push_back({"damped theta 1/2 dt", fmt(dt0 * f, "%.3g"), [d = dt0 * f, beta](Scene& s) {
+                       s.simulation.time_step = d;
+                       s.simulation.theta = 0.5;
+                       s.sole.damping_time = beta;
+                     }});
       knobs.push_back(v);
     }
     {
