@@ -22,6 +22,12 @@ Eigen::Matrix3d ground_frame_transpose() {
   rt << 0, 0, 1, 1, 0, 0, 0, 1, 0;
   return rt;
 }
+/// Velocity (n, t1, t2) = R_c^T [I, -[r]x] twist of the point at lever r of a body with
+/// origin twist (v_o, w) (world).
+Eigen::Vector3d point_velocity(const Vector6d& t, const Eigen::Vector3d& r) {
+  return Eigen::Vector3d(t[2] + r.y() * t[3] - r.x() * t[4], t[0] + r.z() * t[4] - r.y() * t[5],
+                         t[1] - r.z() * t[3] + r.x() * t[5]);
+}
 } // namespace
 
 void StepperParameters::validate() const {
@@ -220,10 +226,7 @@ void Stepper::fill_contact_rows(int k, int point) {
     gc[1] = hc[0] + r.z() * hc[4] - r.y() * hc[5];
     gc[2] = hc[1] - r.z() * hc[3] + r.x() * hc[5];
   }
-  const Vector6d& f = slot_free_velocity_[s];
-  problem_.free_velocity[3 * k] = f[2] + r.y() * f[3] - r.x() * f[4];
-  problem_.free_velocity[3 * k + 1] = f[0] + r.z() * f[4] - r.y() * f[5];
-  problem_.free_velocity[3 * k + 2] = f[1] - r.z() * f[3] + r.x() * f[5];
+  problem_.free_velocity.segment<3>(3 * k) = point_velocity(slot_free_velocity_[s], r);
 }
 
 void Stepper::update_patch_rotation(Patch& patch, coupling::CompliantPatch& target) {
@@ -561,12 +564,9 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       problem_.normal_bias[k] = coupling::normal_bias(gap, v_before_[point], node ? theta_dt : dt,
                                                       parameters_.normal_bias);
       if (node && theta < 1.0) {
-        const Vector6d& b = slot_velocity_[body_slot_[points_[point].body]];
-        const Eigen::Vector3d& r = lever_[point];
-        const double c = (1.0 - theta) / theta;
-        problem_.free_velocity[3 * k] += c * (b[2] + r.y() * b[3] - r.x() * b[4]);
-        problem_.free_velocity[3 * k + 1] += c * (b[0] + r.z() * b[4] - r.y() * b[5]);
-        problem_.free_velocity[3 * k + 2] += c * (b[1] - r.z() * b[3] + r.x() * b[5]);
+        problem_.free_velocity.segment<3>(3 * k) +=
+            ((1.0 - theta) / theta) *
+            point_velocity(slot_velocity_[body_slot_[points_[point].body]], lever_[point]);
       }
       problem_.friction[k] = points_[point].friction;
       impulses_.segment<3>(3 * k) = point_impulse_[point];
