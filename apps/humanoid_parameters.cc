@@ -186,9 +186,11 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
                     "Natural-map residual (m/s) at which a contact solve has converged, > 0.");
   prm.declare_entry("Max iterations", "500", Integer(1), "Solver iterations per step.");
   prm.declare_entry("Sticking direct solve", "true", Bool(),
-                    "When the warm start has every sole node sticking, solve the sticking "
-                    "system directly (Woodbury over the factorised sole blocks) and keep it if "
-                    "every impulse is in its cone (the exact solution); else iterate.");
+                    "Before iterating, solve the sticking system of the warm start's contact "
+                    "set directly (sole nodes sticking, sliding ones held, separated ones "
+                    "free; Woodbury over the factorised sole blocks) and keep it if every "
+                    "impulse is in its cone and the residual meets the tolerance (an exact "
+                    "solution); else iterate from it.");
   prm.declare_entry("Failure residual", "1e-4", Double(0),
                     "A solve that stops unconverged with a residual above this (m/s) stops the "
                     "run with an error; below it the step is counted as unconverged.");

@@ -48,9 +48,7 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   active_count_.setZero(max_contacts);
   active_updates_.setZero(max_contacts);
   wanted_.setZero(max_contacts);
-  refused_wanted_.setZero(max_contacts);
-  refused_size_ = -1;
-  refused_skips_ = 0;
+  sliding_.setZero(max_contacts);
   sticking_capacitance_.setZero(rigid_rank, rigid_rank);
   sticking_y_.setZero(rigid_rank);
   sticking_map_.setZero(6, rigid_rank);
@@ -178,6 +176,7 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
       projection_change_.segment<3>(3 * k).setConstant(std::nan(""));
   }
   warm_products_usable_ = settings.warm_start;
+  start_ready_ = false;
   if (settings.sticking_direct && settings.warm_start &&
       solve_sticking(problem, settings, impulses, result))
     return result;

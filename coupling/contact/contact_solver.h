@@ -88,6 +88,9 @@ private:
                              const Eigen::Ref<const Eigen::VectorXd>& p);
   // velocity_[patch rows] += (I (x) R) patch_velocity_[patch rows], every patch.
   void add_patch_velocities(const ContactProblem& problem);
+  // rigid_work_ = G^T p and patch_velocity_ (the patch products) of the warm start @p p, for
+  // the iteration (start_ready_ = true).
+  void start_iteration(const ContactProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& p);
   SolverResult solve_gauss_seidel(const ContactProblem& problem, const SolverSettings& settings,
                                   Eigen::Ref<Eigen::VectorXd> impulses);
   SolverResult solve_admm(const ContactProblem& problem, const SolverSettings& settings,
@@ -121,25 +124,26 @@ private:
   bool update_active_factor(const ContactProblem& problem, int j);
   void remove_active_node(int first, int position);
   bool append_active_node(const CompliantPatch& patch, int node);
-  Eigen::VectorXd sticking_p_;         // 3N, factor order: x = C_AA^-1 c~, then p~
+  Eigen::VectorXd sticking_p_;         // 3N, factor order: x = L^-1 c', then p~_A
   Eigen::VectorXd sticking_c_;         // 3N, factor order: c~ = (I (x) R)^T (v_free + b e_n)
   Eigen::VectorXd sticking_full_;      // 3N, candidate impulses (contact frames)
   Eigen::VectorXd sticking_work_;      // 3N, rank-1 update vector
   Eigen::MatrixXd sticking_columns_;   // 3N x 3, an appended node's columns
   Eigen::MatrixXd active_factor_;      // 3N x 3N, L of C_AA per patch
-  Eigen::MatrixXd active_lever_solve_; // 3N x 6, C_AA^-1 Lambda_A (factor order)
-  Eigen::MatrixXd active_gram_;        // 6 x 6N, Lambda_A^T C_AA^-1 Lambda_A at column 6 first
+  Eigen::MatrixXd active_lever_solve_; // 3N x 6, Z = L^-1 Lambda_A (factor order)
+  Eigen::MatrixXd active_gram_;        // 6 x 6N, Z^T Z = Lambda_A^T C_AA^-1 Lambda_A at 6 first
   Eigen::VectorXi active_order_;       // N: at first + i, the local node of position i
   Eigen::VectorXi active_position_;    // N: position of contact k in its patch's factor, -1
   Eigen::VectorXi active_owner_;       // N: patch whose factor occupies contact k's rows
   Eigen::Matrix<long, Eigen::Dynamic, 1> active_version_; // per patch: sticking_version
   Eigen::VectorXi active_first_, active_size_, active_count_, active_updates_; // per patch
-  Eigen::VectorXi wanted_;               // N: 1 where the warm start has p_n > 0
-  Eigen::VectorXi refused_wanted_;       // N: the prediction of the last refused candidate
-  int refused_size_ = -1;                // its n_contacts (-1: none refused since a success)
-  int refused_skips_ = 0;                // solves skipped since
-  Eigen::MatrixXd sticking_capacitance_; // m x m, Cholesky of I + G^T D_A^-1 G
-  Eigen::VectorXd sticking_y_;           // m
+  Eigen::VectorXi wanted_;  // N: 1 where the warm start sticks (p_n > 0, inside the cone)
+  Eigen::VectorXi sliding_; // N: 1 where it slides (p_n > 0, on the cone): held in the solve
+  // rigid_work_ = G^T p and patch_velocity_ hold the iteration's start (start_iteration(), or
+  // the direct solve's refused candidate); cleared when solve_sticking uses them.
+  bool start_ready_ = false;
+  Eigen::MatrixXd sticking_capacitance_;                  // m x m, Cholesky of I + G^T D_A^-1 G
+  Eigen::VectorXd sticking_y_;                            // m
   Eigen::Matrix<double, 6, Eigen::Dynamic> sticking_map_; // 6 x m, lever_gram lever_map
   // ADMM.
   Eigen::VectorXd x_, z_, z_prev_, dual_, rhs_, tmp_; // 3N each

@@ -7,25 +7,13 @@
 
 namespace plantar::coupling {
 
-SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
-                                               const SolverSettings& settings,
-                                               Eigen::Ref<Eigen::VectorXd> p) {
-  const int n = problem.n_contacts;
-  const int n3 = 3 * n;
+void ContactSolver::start_iteration(const ContactProblem& problem,
+                                    const Eigen::Ref<const Eigen::VectorXd>& p) {
+  // A patch's product comes from the caller when it holds it (warm_product), corrected by the
+  // cone projection's change of the warm start.
+  const int n3 = 3 * problem.n_contacts;
   const int m = rigid_rank_;
-  auto g = problem.rigid_factor.topRows(n3);
-  SolverResult result;
-  const LocalSearch search =
-      settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
-  for (int k = 0; k < n; ++k) { // W_kk^-1 for the sticking candidates of the local solves
-    Eigen::Matrix3d inverse;
-    has_inverse_[k] = local_inverse(diag_blocks_.middleCols<3>(3 * k), inverse) ? 1 : 0;
-    if (has_inverse_[k])
-      diag_inverses_.middleCols<3>(3 * k) = inverse;
-  }
-  // y = G^T p and the patch velocities C_j (I (x) R_j)^T p (patch frames), kept current
-  // through the sweeps; a patch's product comes from the caller when it holds it.
-  rigid_work_.head(m).noalias() = g.transpose() * p.head(n3);
+  rigid_work_.head(m).noalias() = problem.rigid_factor.topRows(n3).transpose() * p.head(n3);
   patch_velocity_.head(n3).setZero();
   for (const CompliantPatch& patch : problem.patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
@@ -48,6 +36,29 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
       compute_patch_product(patch, p);
     }
   }
+  start_ready_ = true;
+}
+
+SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
+                                               const SolverSettings& settings,
+                                               Eigen::Ref<Eigen::VectorXd> p) {
+  const int n = problem.n_contacts;
+  const int n3 = 3 * n;
+  const int m = rigid_rank_;
+  auto g = problem.rigid_factor.topRows(n3);
+  SolverResult result;
+  const LocalSearch search =
+      settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
+  for (int k = 0; k < n; ++k) { // W_kk^-1 for the sticking candidates of the local solves
+    Eigen::Matrix3d inverse;
+    has_inverse_[k] = local_inverse(diag_blocks_.middleCols<3>(3 * k), inverse) ? 1 : 0;
+    if (has_inverse_[k])
+      diag_inverses_.middleCols<3>(3 * k) = inverse;
+  }
+  // y = G^T p and the patch velocities C_j (I (x) R_j)^T p (patch frames), kept current
+  // through the sweeps; set by start_iteration() or by the direct solve's refused candidate.
+  if (!start_ready_)
+    start_iteration(problem, p);
   for (int sweep = 1; sweep <= settings.max_iterations; ++sweep) {
     // Every 50 sweeps, recompute y and the patch velocities from scratch to
     // limit the round-off drift of the incremental updates.

@@ -1,24 +1,29 @@
 // Direct solve on the warm start's active set (part of ContactSolver,
 // SolverSettings::sticking_direct).
 //
-// The warm start predicts, per contact, sticking (p_n > 0, strictly inside the cone) or
-// separated (p = 0). With p_I = 0 on the separated set, sticking contacts have zero De Saxce
-// velocity: W_AA p_A = -c_A, c_k = v_free,k + b_k e_n. With every contact on a patch whose
-// rigid rows are G_j = (I (x) R_j) Lambda_j T_j (CompliantPatch::lever, lever_map) and
+// The warm start predicts, per contact, sticking (p_n > 0, inside the cone by more than a
+// relative 1e-9), sliding (p_n > 0 on the cone: S, held at its warm-start impulse) or
+// separated (p = 0).
+// Sticking contacts then have zero De Saxce velocity: W_AA p_A = -c'_A with
+// c' = v_free + b e_n + W_AS p_S. With every contact on a patch whose rigid rows are
+// G_j = (I (x) R_j) Lambda_j T_j (CompliantPatch::lever, lever_map) and
 // D_A = blockdiag((I (x) R_j) C_j,AA (I (x) R_j)^T), C_j = C/dt^2 in the patch frame,
-// Woodbury gives, in patch frames (c~ = (I (x) R_j)^T c):
-//   x_j = C_j,AA^-1 c~_j,A                              (two triangular solves)
-//   S z = sum_j T_j^T Lambda_j,A^T x_j,   S = I_m + sum_j T_j^T (Lambda_A^T C_AA^-1 Lambda_A) T_j
-//   p~_j,A = -(x_j - (C_j,AA^-1 Lambda_j,A) T_j z)
+// Woodbury gives, in patch frames, with L L^T = C_j,AA and Z = L^-1 Lambda_j,A:
+//   x_j = L^-1 c~'_j,A                                   (one triangular solve)
+//   S z = sum_j T_j^T Z^T x_j,   S = I_m + sum_j T_j^T (Z^T Z) T_j
+//   p~_j,A = -L^-T (x_j - Z T_j z)                      (one triangular solve)
 // The candidate is kept when every p_A lies in its cone and the natural-map residual of all
 // contacts (the separated ones need v_n + b >= 0) meets the tolerance; it is then a solution
-// of the contact problem. Otherwise the iterative solver runs from the warm start.
+// of the contact problem. Otherwise it is projected onto the cones and the iterative solver
+// starts from it (with its G^T p and patch products), not from the warm start.
 //
-// The factor L of C_j,AA is kept between solves and updated node by node when A changes:
-// removing a node is a rank-3 update of the trailing factor, adding one a triangular solve
-// (O(|A|^2) each instead of O(|A|^3)); it is rebuilt from scratch after 60 updates.
+// L, Z and Z^T Z are kept between solves and updated node by node when A changes: adding a
+// node is a triangular solve for its rows of L and Z (O(|A|^2)); removing one is a rank-3
+// update of the trailing factor, after which Z is solved afresh (6 triangular solves); the
+// factor is rebuilt from scratch after 60 updates.
 #include "coupling/contact/contact_solver.h"
 
+#include "coupling/contact/coulomb_cone.h"
 #include "coupling/contact/dense_kernels.h"
 
 #include <Eigen/Cholesky>
@@ -28,8 +33,7 @@ namespace plantar::coupling {
 
 namespace {
 using Vector6 = Eigen::Matrix<double, 6, 1>;
-constexpr int kMaxUpdates = 60;   // factor updates before a rebuild (round-off)
-constexpr int kRetryInterval = 8; // solves between retries of a refused prediction
+constexpr int kMaxUpdates = 60; // factor updates before a rebuild (round-off)
 } // namespace
 
 void ContactSolver::remove_active_node(int first, int position) {
@@ -102,6 +106,13 @@ bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
     }
   }
   l.block<3, 3>(size, size) = d.triangularView<Eigen::Lower>();
+  // Z = L^-1 Lambda_A gains the rows d^-1 (Lambda_n - b^T Z_A); Z^T Z gains their Gram.
+  auto z = active_lever_solve_.middleRows(base, size + 3);
+  Eigen::Matrix<double, 3, 6> z_n = patch.lever.middleRows<3>(3 * node);
+  z_n.noalias() -= b.transpose() * z.topRows(size);
+  d.triangularView<Eigen::Lower>().solveInPlace(z_n);
+  z.bottomRows<3>() = z_n;
+  active_gram_.middleCols<6>(6 * first).noalias() += z_n.transpose() * z_n;
   active_order_[first + count] = node;
   active_position_[first + node] = count;
   ++count;
@@ -115,7 +126,6 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
                active_size_[j] == n_nodes;
   for (int k = first; owned && k < first + n_nodes; ++k)
     owned = active_owner_[k] == j;
-  bool changed = false;
   if (!owned || active_updates_[j] >= kMaxUpdates) { // start from an empty factor
     active_version_[j] = patch.sticking_version;
     active_first_[j] = first;
@@ -124,9 +134,10 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
     active_updates_[j] = 0;
     active_owner_.segment(first, n_nodes).setConstant(j);
     active_position_.segment(first, n_nodes).setConstant(-1);
-    changed = true;
+    active_gram_.middleCols<6>(6 * first).setZero();
   }
   const bool rebuilding = active_count_[j] == 0;
+  bool removed = false;
   for (int i = active_count_[j] - 1; i >= 0; --i) {
     const int node = active_order_[first + i];
     if (!wanted_[first + node]) {
@@ -134,8 +145,20 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
       active_position_[first + node] = -1;
       --active_count_[j];
       ++active_updates_[j];
-      changed = true;
+      removed = true;
     }
+  }
+  if (removed) { // Z = L^-1 Lambda_A and Z^T Z afresh (the appends below extend them)
+    const int count = active_count_[j];
+    auto z = active_lever_solve_.middleRows(3 * first, 3 * count);
+    for (int i = 0; i < count; ++i)
+      z.middleRows<3>(3 * i) = patch.lever.middleRows<3>(3 * active_order_[first + i]);
+    const auto l = active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count);
+    for (int c = 0; c < 6; ++c) {
+      auto column = z.col(c);
+      l.triangularView<Eigen::Lower>().solveInPlace(column);
+    }
+    active_gram_.middleCols<6>(6 * first).noalias() = z.transpose() * z;
   }
   for (int node = 0; node < n_nodes; ++node) {
     if (wanted_[first + node] && active_position_[first + node] < 0) {
@@ -144,23 +167,6 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
         return false;
       }
       active_updates_[j] += rebuilding ? 0 : 1;
-      changed = true;
-    }
-  }
-  if (changed && active_count_[j] > 0) { // C_AA^-1 Lambda_A and Lambda_A^T C_AA^-1 Lambda_A
-    const int size = 3 * active_count_[j];
-    auto y = active_lever_solve_.middleRows(3 * first, size);
-    for (int i = 0; i < active_count_[j]; ++i)
-      y.middleRows<3>(3 * i) = patch.lever.middleRows<3>(3 * active_order_[first + i]);
-    const auto l = active_factor_.block(3 * first, 3 * first, size, size);
-    for (int c = 0; c < 6; ++c) { // Z = L^-1 Lambda_A
-      auto column = y.col(c);
-      l.triangularView<Eigen::Lower>().solveInPlace(column);
-    }
-    active_gram_.middleCols<6>(6 * first).noalias() = y.transpose() * y; // Z^T Z
-    for (int c = 0; c < 6; ++c) {                                        // Y = L^-T Z
-      auto column = y.col(c);
-      l.triangularView<Eigen::Lower>().transpose().solveInPlace(column);
     }
   }
   return true;
@@ -186,30 +192,39 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   if (covered != n)
     return false; // a contact without compliance: D singular
   int n_active = 0;
-  for (int k = 0; k < n; ++k) { // the warm start's prediction: sticking or separated
+  for (int k = 0; k < n; ++k) { // the warm start's prediction: sticking, sliding or separated
     const double p_n = impulses[3 * k];
     const double t2 =
         impulses[3 * k + 1] * impulses[3 * k + 1] + impulses[3 * k + 2] * impulses[3 * k + 2];
     const double mu = problem.friction[k];
-    wanted_[k] = p_n > 0.0 ? 1 : 0;
-    if (p_n > 0.0 && !(t2 < mu * mu * p_n * p_n))
-      return false; // predicted sliding
+    // Within 1e-9 of the cone (a projected warm start lands there up to round-off): sliding.
+    wanted_[k] = p_n > 0.0 && t2 < (1.0 - 1e-9) * mu * mu * p_n * p_n ? 1 : 0;
+    sliding_[k] = p_n > 0.0 && !wanted_[k] ? 1 : 0;
     n_active += wanted_[k];
   }
   if (n_active == 0)
     return false;
-  // A candidate refused on this prediction is usually refused again while the prediction
-  // stays (e.g. edge nodes slipping): retry it only every kRetryInterval solves.
-  bool same_prediction = refused_size_ == n;
-  for (int k = 0; same_prediction && k < n; ++k)
-    same_prediction = refused_wanted_[k] == wanted_[k];
-  if (same_prediction && ++refused_skips_ < kRetryInterval)
-    return false;
-  refused_skips_ = 0;
-  refused_size_ = n; // until accepted
-  refused_wanted_.head(n) = wanted_.head(n);
 
-  // x_j = C_j,AA^-1 c~_j,A; S and G^T D_A^-1 c.
+  start_ready_ = false; // rigid_work_ and patch_velocity_ are taken from here on
+  // g_S = G^T p_S of the sliding contacts (held at their warm-start impulses).
+  auto g_sliding = rigid_work2_.head(m);
+  g_sliding.setZero();
+  for (const CompliantPatch& patch : problem.patches) {
+    Vector6 t = Vector6::Zero();
+    bool any = false;
+    for (int node = 0; node < patch.n_contacts; ++node) {
+      const int k = patch.first_contact + node;
+      if (sliding_[k]) {
+        t.noalias() += patch.lever.middleRows<3>(3 * node).transpose() *
+                       (patch.rotation.transpose() * impulses.segment<3>(3 * k));
+        any = true;
+      }
+    }
+    if (any)
+      g_sliding.noalias() += patch.lever_map.transpose() * t;
+  }
+
+  // x_j = C_j,AA^-1 c'_j,A with c' = c~ + C_AS p~_S + Lambda_A T_j g_S; S and G^T D_A^-1 c'.
   sticking_capacitance_.setIdentity();
   sticking_y_.setZero();
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
@@ -219,25 +234,36 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     if (!update_active_factor(problem, static_cast<int>(j)))
       return false;
     const int first = patch.first_contact, count = active_count_[j];
+    const int size = 3 * patch.n_contacts;
+    auto w = patch_velocity_.segment(3 * first, size); // C_:S p~_S (patch frame, node order)
+    w.setZero();
+    for (int node = 0; node < patch.n_contacts; ++node) {
+      if (sliding_[first + node]) {
+        const Eigen::Vector3d p_patch =
+            patch.rotation.transpose() * impulses.segment<3>(3 * (first + node));
+        add_three_columns(patch.compliance_over_dt.col(3 * node).data(),
+                          patch.compliance_over_dt.outerStride(), size, p_patch.data(), w.data());
+      }
+    }
     if (count == 0)
       continue;
+    // x = L^-1 c'; Lambda_A^T C_AA^-1 c' = Z^T x.
     auto c = sticking_c_.segment(3 * first, 3 * count);
     auto x = sticking_p_.segment(3 * first, 3 * count);
+    const Vector6 u_sliding = patch.lever_map * g_sliding;
     for (int i = 0; i < count; ++i) {
-      const int k = first + active_order_[first + i];
+      const int node = active_order_[first + i];
+      const int k = first + node;
       Eigen::Vector3d c_k = problem.free_velocity.segment<3>(3 * k);
       c_k[0] += problem.normal_bias[k];
       c.segment<3>(3 * i).noalias() = patch.rotation.transpose() * c_k;
+      x.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
+                            patch.lever.middleRows<3>(3 * node) * u_sliding;
     }
-    x = c;
-    const auto l = active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
-                       .triangularView<Eigen::Lower>();
-    l.solveInPlace(x);
-    l.transpose().solveInPlace(x);
-    Vector6 t = Vector6::Zero();
-    for (int i = 0; i < count; ++i)
-      t.noalias() +=
-          patch.lever.middleRows<3>(3 * active_order_[first + i]).transpose() * x.segment<3>(3 * i);
+    active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
+        .triangularView<Eigen::Lower>()
+        .solveInPlace(x);
+    const Vector6 t = active_lever_solve_.middleRows(3 * first, 3 * count).transpose() * x;
     sticking_y_.noalias() += patch.lever_map.transpose() * t;
     sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * patch.lever_map;
     sticking_capacitance_.noalias() += patch.lever_map.transpose() * sticking_map_;
@@ -248,17 +274,26 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   s.solveInPlace(sticking_y_);
   s.transpose().solveInPlace(sticking_y_); // z
 
-  // p~_A = -(x - Y_A T z); G^T p; cone check; candidate in contact frames.
-  rigid_work_.head(m).setZero();
+  // p~_A, G^T p = G_A^T p_A + g_S; the candidate in contact frames.
+  rigid_work_.head(m) = g_sliding;
   sticking_full_.head(n3).setZero();
+  int n_outside = 0;
+  for (int k = 0; k < n; ++k)
+    if (sliding_[k])
+      sticking_full_.segment<3>(3 * k) = impulses.segment<3>(3 * k);
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
     const int first = patch.first_contact, count = patch.n_contacts > 0 ? active_count_[j] : 0;
     if (count == 0)
       continue;
+    // p~_A = -L^-T (L^-1 c' - Z T z)
     auto x = sticking_p_.segment(3 * first, 3 * count);
     const Vector6 u = patch.lever_map * sticking_y_;
     x.noalias() -= active_lever_solve_.middleRows(3 * first, 3 * count) * u;
+    active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
+        .triangularView<Eigen::Lower>()
+        .transpose()
+        .solveInPlace(x);
     x = -x;
     Vector6 t = Vector6::Zero();
     for (int i = 0; i < count; ++i) {
@@ -267,52 +302,91 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       const Eigen::Vector3d p = patch.rotation * x.segment<3>(3 * i);
       const double mu = problem.friction[first + node];
       if (!(p[0] >= 0.0) || !(p[1] * p[1] + p[2] * p[2] <= mu * mu * p[0] * p[0]))
-        return false;
+        ++n_outside;
       sticking_full_.segment<3>(3 * (first + node)) = p;
     }
     rigid_work_.head(m).noalias() += patch.lever_map.transpose() * t;
   }
+  if (!sticking_full_.head(n3).allFinite())
+    return false;
 
-  // Patch products C_j (I (x) R)^T p (patch frame): for a full active set from the sticking
-  // equations, C p~ = -(c~ + Lambda T G^T p); otherwise by the active columns.
+  // Patch products w = C_j (I (x) R)^T p (patch frame). Rows of A from the sticking
+  // equations, C p~ = -(c~ + Lambda T G^T p); the other rows by dot products with their
+  // columns (C is symmetric), or all rows by the columns of A and S when those are fewer.
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
     if (patch.n_contacts == 0)
       continue;
     const int first = patch.first_contact, count = active_count_[j];
     const int size = 3 * patch.n_contacts;
-    auto w = patch_velocity_.segment(3 * first, size);
-    if (count == patch.n_contacts) {
-      const Vector6 v6 = patch.lever_map * rigid_work_.head(m);
-      for (int i = 0; i < count; ++i) {
-        const int node = active_order_[first + i];
-        w.segment<3>(3 * node).noalias() =
-            -(sticking_c_.segment<3>(3 * (first + i)) + patch.lever.middleRows<3>(3 * node) * v6);
-      }
-    } else {
-      w.setZero();
+    auto w = patch_velocity_.segment(3 * first, size); // holds C_:S p~_S
+    auto p_patch = sticking_work_.head(size);          // p~ in node order
+    for (int node = 0; node < patch.n_contacts; ++node)
+      p_patch.segment<3>(3 * node).noalias() =
+          patch.rotation.transpose() * sticking_full_.segment<3>(3 * (first + node));
+    if (2 * count < patch.n_contacts) { // by the columns of A (w holds those of S)
       for (int i = 0; i < count; ++i) {
         const int node = active_order_[first + i];
         add_three_columns(patch.compliance_over_dt.col(3 * node).data(),
-                          patch.compliance_over_dt.outerStride(), size,
-                          sticking_p_.data() + 3 * (first + i), w.data());
+                          patch.compliance_over_dt.outerStride(), size, p_patch.data() + 3 * node,
+                          w.data());
+      }
+    } else {
+      if (count > 0) {
+        const Vector6 v6 = patch.lever_map * rigid_work_.head(m);
+        for (int i = 0; i < count; ++i) {
+          const int node = active_order_[first + i];
+          w.segment<3>(3 * node).noalias() =
+              -(sticking_c_.segment<3>(3 * (first + i)) + patch.lever.middleRows<3>(3 * node) * v6);
+        }
+      }
+      for (int node = 0; node < patch.n_contacts; ++node) {
+        if (wanted_[first + node])
+          continue;
+        for (int c = 0; c < 3; ++c)
+          w[3 * node + c] = patch.compliance_over_dt.col(3 * node + c).head(size).dot(p_patch);
       }
     }
   }
   velocity_.head(n3).noalias() = problem.rigid_factor.topRows(n3) * rigid_work_.head(m);
   velocity_.head(n3) += problem.free_velocity.head(n3);
   add_patch_velocities(problem);
-  const double r = residual(problem, sticking_full_, velocity_);
-  if (!(r <= settings.tolerance))
-    return false; // a separated contact closes, or round-off: iterate from the warm start
+  if (n_outside == 0) {
+    const double r = residual(problem, sticking_full_, velocity_);
+    if (r <= settings.tolerance) {
+      impulses.head(n3) = sticking_full_.head(n3);
+      result = SolverResult{};
+      result.direct = true;
+      result.iterations = 0;
+      result.residual = r;
+      result.status = SolverStatus::converged;
+      return true;
+    }
+  }
+  // Refused (a sticking contact outside its cone, a held sliding impulse, a separated
+  // contact closing): the candidate projected onto the cones is the iterative solver's
+  // start, with G^T p and the patch products updated by the projection's change.
+  for (int k = 0; k < n && n_outside > 0; ++k) {
+    if (!wanted_[k])
+      continue;
+    const Eigen::Vector3d p = sticking_full_.segment<3>(3 * k);
+    const Eigen::Vector3d delta = project_onto_cone(p, problem.friction[k]) - p;
+    if (delta.squaredNorm() == 0.0)
+      continue;
+    sticking_full_.segment<3>(3 * k) += delta;
+    for (int c = 0; c < m; ++c) {
+      const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
+      rigid_work_[c] += g_c[0] * delta[0] + g_c[1] * delta[1] + g_c[2] * delta[2];
+    }
+    const CompliantPatch& patch = problem.patches[patch_of_[k]];
+    const Eigen::Vector3d delta_patch = patch.rotation.transpose() * delta;
+    add_three_columns(patch.compliance_over_dt.col(3 * (k - patch.first_contact)).data(),
+                      patch.compliance_over_dt.outerStride(), 3 * patch.n_contacts,
+                      delta_patch.data(), patch_velocity_.data() + 3 * patch.first_contact);
+  }
   impulses.head(n3) = sticking_full_.head(n3);
-  refused_size_ = -1;
-  result = SolverResult{};
-  result.direct = true;
-  result.iterations = 0;
-  result.residual = r;
-  result.status = SolverStatus::converged;
-  return true;
+  start_ready_ = true;
+  return false;
 }
 
 } // namespace plantar::coupling

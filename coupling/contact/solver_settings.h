@@ -23,12 +23,13 @@ struct SolverSettings {
   /// preferred solution (LocalSearch::first, tens of ns), non-uniqueness not detected.
   bool enumerate_local_solutions = false;
   /// Before iterating, solve directly on the warm start's prediction: contacts with p_n > 0
-  /// (strictly inside the cone) sticking, the others separated (p = 0). Needs every contact on
-  /// a patch with the sticking structure (CompliantPatch::lever, lever_map_valid,
-  /// sticking_version). W_AA p_A = -(v_free + b e_n)_A by Woodbury over the kept Cholesky
-  /// factors of the active sole blocks (updated node by node when the set changes); the result
-  /// is kept when it lies in the cones and meets the tolerance (then it is an exact solution),
-  /// else the iterative solver runs from the warm start.
+  /// strictly inside the cone sticking, those on the cone held at their impulse (sliding), the
+  /// others separated (p = 0). Needs every contact on a patch with the sticking structure
+  /// (CompliantPatch::lever, lever_map_valid, sticking_version). W_AA p_A = -(v_free + b e_n +
+  /// W_AS p_S)_A by Woodbury over the kept Cholesky factors of the active sole blocks (updated
+  /// node by node when the set changes); the result is kept when it lies in the cones and
+  /// meets the tolerance (then it is an exact solution), else the iterative solver starts from
+  /// it, projected onto the cones.
   bool sticking_direct = true;
   /// ADMM: initial rho = rho_scale * mean diagonal of W. Range (0, inf).
   double rho_scale = 1.0;

@@ -1,7 +1,9 @@
 // The direct solve of an all-sticking problem (SolverSettings::sticking_direct,
 // contact_solver_sticking.cc) against a known sticking solution, the dense W and the
-// Gauss-Seidel iteration; when it must refuse; a stiff (ill-conditioned) sole.
+// Gauss-Seidel iteration; when it must refuse (and the iteration starts from the refused
+// candidate); a sliding contact held; a stiff (ill-conditioned) sole.
 #include "coupling/contact/contact_solver.h"
+#include "coupling/contact/coulomb_cone.h"
 #include "tests/coupling/contact/sticking_problem.h"
 
 #include <Eigen/Eigenvalues>
@@ -64,7 +66,7 @@ TEST(ContactSticking, DirectSolveGivesTheStickingSolution) {
     EXPECT_EQ(r.iterations, 0);
     EXPECT_LE(e_p, 1e-11);
     EXPECT_LE(e_v, 1e-12);
-    EXPECT_LE(e_product, 1e-12);
+    EXPECT_LE(e_product, 1e-11); // the active rows from the sticking equations: their residual
     EXPECT_LE(r.residual, 1e-10);
   }
   // The iteration from the same warm start reaches the same point.
@@ -79,32 +81,75 @@ TEST(ContactSticking, DirectSolveGivesTheStickingSolution) {
   EXPECT_LE(e_gs, 1e-8);
 }
 
-TEST(ContactSticking, RefusesWhenAContactSlides) {
-  // p* has contact 7 outside its cone: the sticking system's solution is not a solution of the
-  // contact problem. The solver must iterate, exactly as without the direct solve.
+TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
+  // p* has contact 7 outside its cone: the sticking system's solution p* is not a solution of
+  // the contact problem. The iteration starts from p* projected onto the cones (built here
+  // densely), with the direct solve's G^T p and patch products, and converges to the same
+  // solution as from the warm start.
   const int n_nodes = 25, m = 12, n = 2 * n_nodes;
   const auto fixture = sticking_problem(n_nodes, m, 1.0, 0.4, 7, 5);
   Eigen::VectorXd warm = fixture.solution;
   warm.segment<2>(3 * 7 + 1) *= 0.3; // inside the cone: the direct solve is tried
+  Eigen::VectorXd start = fixture.solution;
+  start.segment<3>(21) = pc::project_onto_cone(start.segment<3>(21), fixture.problem.friction[7]);
   pc::ContactSolver solver(n, m);
-  Eigen::VectorXd p_on = warm, p_off = warm;
   const auto type = pc::ContactSolverType::gauss_seidel;
+  // One sweep: from the refused candidate against from the dense start.
+  pc::SolverSettings one = settings_for(type, true, 1e-11);
+  one.max_iterations = 1;
+  Eigen::VectorXd p_one = warm, p_one_dense = start;
+  const pc::SolverResult r_one = solver.solve(fixture.problem, one, p_one);
+  one.sticking_direct = false;
+  solver.solve(fixture.problem, one, p_one_dense);
+  const double e_one = (p_one - p_one_dense).norm() / p_one_dense.norm();
+  // To convergence: with and without the direct solve.
+  Eigen::VectorXd p_on = warm, p_off = warm;
   const pc::SolverResult r_on =
       solver.solve(fixture.problem, settings_for(type, true, 1e-11), p_on);
   const pc::SolverResult r_off =
       solver.solve(fixture.problem, settings_for(type, false, 1e-11), p_off);
   const double difference = (p_on - p_off).norm() / p_off.norm();
-  const Eigen::Vector3d p7 = p_off.segment<3>(21);
+  const Eigen::Vector3d p7 = p_on.segment<3>(21);
   const double slip_ratio = p7.tail<2>().norm() / (fixture.problem.friction[7] * p7[0]);
-  std::printf("refused: direct %d, %d vs %d sweeps, |p_on - p_off|/|p| %.2e, contact 7 "
-              "|p_t|/(mu p_n) %.12f, residual %.2e\n",
-              r_on.direct, r_on.iterations, r_off.iterations, difference, slip_ratio,
+  std::printf("refused: direct %d; one sweep from it vs from the dense start %.2e; %d vs %d "
+              "sweeps (from the warm start), |p_on - p_off|/|p| %.2e, contact 7 |p_t|/(mu p_n) "
+              "%.12f, residual %.2e\n",
+              r_one.direct, e_one, r_on.iterations, r_off.iterations, difference, slip_ratio,
               r_on.residual);
+  EXPECT_FALSE(r_one.direct);
+  EXPECT_EQ(r_one.iterations, 1);
+  EXPECT_LE(e_one, 1e-13);
   EXPECT_FALSE(r_on.direct);
   EXPECT_TRUE(r_on.converged());
-  EXPECT_EQ(r_on.iterations, r_off.iterations);
-  EXPECT_LE(difference, 1e-14);
+  EXPECT_TRUE(r_off.converged());
+  EXPECT_LE(r_on.iterations, r_off.iterations);
+  EXPECT_LE(difference, 1e-9);
   EXPECT_NEAR(slip_ratio, 1.0, 1e-9); // contact 7 slides: on the cone's boundary
+}
+
+TEST(ContactSticking, HoldsASlidingContact) {
+  // Contact 7's friction coefficient is lowered until p*_7 lies on its cone: p* is still a
+  // solution (v_t = 0). The warm start has contact 7 at p*_7 (sliding, held) and the others
+  // inside: the direct solve with contact 7 held gives p* at once.
+  const int n_nodes = 25, m = 12, n = 2 * n_nodes;
+  auto fixture = sticking_problem(n_nodes, m, 1.0, 0.5, -1, 9);
+  const Eigen::Vector3d p7_star = fixture.solution.segment<3>(21);
+  fixture.problem.friction[7] = p7_star.tail<2>().norm() / p7_star[0];
+  Eigen::VectorXd p = inside_warm_start(fixture.solution);
+  p.segment<3>(21) = p7_star;
+  pc::ContactSolver solver(n, m);
+  for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm}) {
+    Eigen::VectorXd p_type = p;
+    const pc::SolverResult r =
+        solver.solve(fixture.problem, settings_for(type, true, 1e-9), p_type);
+    const double e_p = (p_type - fixture.solution).norm() / fixture.solution.norm();
+    std::printf("%s, contact 7 held: direct %d, |p - p*|/|p*| %.2e, residual %.2e\n",
+                pc::to_string(type), r.direct, e_p, r.residual);
+    EXPECT_TRUE(r.direct);
+    EXPECT_TRUE(r.converged());
+    EXPECT_LE(e_p, 1e-10);
+    EXPECT_LE(r.residual, 1e-9);
+  }
 }
 
 TEST(ContactSticking, NotTriedWithoutStructureOrStickingWarmStart) {
