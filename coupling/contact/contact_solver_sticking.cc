@@ -19,7 +19,7 @@
 //
 // L, Z and Z^T Z are kept between solves and updated node by node when A changes: adding a
 // node is a triangular solve for its rows of L and Z (O(|A|^2)); removing one is a rank-3
-// update of the trailing factor, after which Z is solved afresh (6 triangular solves); the
+// update of the trailing factor whose rotations also update Z and Z^T Z (O(|A|^2)); the
 // factor is rebuilt from scratch after 60 updates.
 #include "coupling/contact/contact_solver.h"
 
@@ -45,9 +45,14 @@ void ContactSolver::remove_active_node(int first, int position) {
   const int r = 3 * position;
   const int k = size - r - 3;
   auto l = active_factor_.block(base, base, size, size);
+  // Z = L^-1 Lambda_A follows: L33' Z3' = L33 Z3 + L32 Z2, so the rotations [L33 x] Q =
+  // [L33' 0] act on the rows of [Z3; z^T] (z: a row of Z2); the Gram Z^T Z loses the z left.
+  auto z = active_lever_solve_.middleRows(base, size);
+  Eigen::Matrix<double, 6, 6> gram = active_gram_.middleCols<6>(6 * first);
   for (int c = 0; c < 3; ++c) { // three rank-1 updates of L33
     auto x = sticking_work_.head(k);
     x = l.block(r + 3, r + c, k, 1);
+    Vector6 z_row = z.row(r + c).transpose();
     for (int i = 0; i < k; ++i) {
       const double lii = l(r + 3 + i, r + 3 + i);
       const double rho = std::sqrt(lii * lii + x[i] * x[i]);
@@ -58,8 +63,15 @@ void ContactSolver::remove_active_node(int first, int position) {
         x[t] = cs * x[t] - sn * li;
         l(r + 3 + t, r + 3 + i) = li;
       }
+      const Vector6 zi = (z.row(r + 3 + i).transpose() + sn * z_row) / cs;
+      z_row = cs * z_row - sn * zi;
+      z.row(r + 3 + i) = zi.transpose();
     }
+    gram.noalias() -= z_row * z_row.transpose();
   }
+  active_gram_.middleCols<6>(6 * first) = gram;
+  for (int row = r; row < size - 3; ++row)
+    z.row(row) = z.row(row + 3);
   // Shift the rows below the node up by 3 (columns before it), then L33' up and left by 3.
   for (int col = 0; col < r; ++col)
     for (int row = r; row < size - 3; ++row)
@@ -137,7 +149,6 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
     active_gram_.middleCols<6>(6 * first).setZero();
   }
   const bool rebuilding = active_count_[j] == 0;
-  bool removed = false;
   for (int i = active_count_[j] - 1; i >= 0; --i) {
     const int node = active_order_[first + i];
     if (!wanted_[first + node]) {
@@ -145,20 +156,7 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
       active_position_[first + node] = -1;
       --active_count_[j];
       ++active_updates_[j];
-      removed = true;
     }
-  }
-  if (removed) { // Z = L^-1 Lambda_A and Z^T Z afresh (the appends below extend them)
-    const int count = active_count_[j];
-    auto z = active_lever_solve_.middleRows(3 * first, 3 * count);
-    for (int i = 0; i < count; ++i)
-      z.middleRows<3>(3 * i) = patch.lever.middleRows<3>(3 * active_order_[first + i]);
-    const auto l = active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count);
-    for (int c = 0; c < 6; ++c) {
-      auto column = z.col(c);
-      l.triangularView<Eigen::Lower>().solveInPlace(column);
-    }
-    active_gram_.middleCols<6>(6 * first).noalias() = z.transpose() * z;
   }
   for (int node = 0; node < n_nodes; ++node) {
     if (wanted_[first + node] && active_position_[first + node] < 0) {
