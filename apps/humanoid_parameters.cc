@@ -191,6 +191,11 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
                     "free; Woodbury over the factorised sole blocks) and keep it if every "
                     "impulse is in its cone and the residual meets the tolerance (an exact "
                     "solution); else iterate from it.");
+  prm.declare_entry("Sweep skip fraction", "0", Double(0, 1),
+                    "Gauss-Seidel: a contact whose residual at its turn is at most this "
+                    "fraction of the tolerance is left as it is for that sweep (no local "
+                    "solve, no pass over its columns); convergence still needs every contact "
+                    "within the tolerance. 0 updates every contact; [0, 1).");
   prm.declare_entry("Failure residual", "1e-4", Double(0),
                     "A solve that stops unconverged with a residual above this (m/s) stops the "
                     "run with an error; below it the step is counted as unconverged.");
@@ -204,7 +209,9 @@ void ContactParameters::parse(dealii::ParameterHandler& prm) {
   tolerance = prm.get_double("Tolerance");
   max_iterations = prm.get_integer("Max iterations");
   sticking_direct = prm.get_bool("Sticking direct solve");
+  sweep_skip = prm.get_double("Sweep skip fraction");
   failure_residual = prm.get_double("Failure residual");
+  require(sweep_skip < 1, "Contact/Sweep skip fraction", sweep_skip, "in [0, 1)");
   require(position_correction > 0, "Contact/Position correction", position_correction, "in (0, 1]");
   require(tolerance > 0, "Contact/Tolerance", tolerance, "> 0");
   require(failure_residual > 0, "Contact/Failure residual", failure_residual, "> 0");

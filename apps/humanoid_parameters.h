@@ -58,6 +58,7 @@ struct ContactParameters {
   double tolerance = 1e-8;          ///< m/s, natural-map residual, > 0
   int max_iterations = 500;         ///< >= 1
   bool sticking_direct = true;      ///< direct solve when every contact sticks
+  double sweep_skip = 0.0;          ///< Gauss-Seidel: skip contacts within this x tolerance
   double failure_residual = 1e-4;   ///< m/s: an unconverged solve above this stops the run
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

@@ -144,6 +144,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.solver.tolerance = scene_.contact.tolerance;
   stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
   stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
+  stepper_parameters.solver.sweep_skip = scene_.contact.sweep_skip;
   const double mu = scene_.contact.friction;
 
   Eigen::Matrix3Xd nodes;          // sole frame

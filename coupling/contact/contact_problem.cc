@@ -123,6 +123,20 @@ Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
   return block;
 }
 
+double ContactProblem::diagonal_trace(int contact) const {
+  double trace = 0.0;
+  for (int c = 0; c < rigid_rank(); ++c) {
+    const double* g = rigid_factor.col(c).data() + 3 * contact;
+    trace += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+  }
+  for (const CompliantPatch& patch : patches) {
+    const int local = contact - patch.first_contact;
+    if (local >= 0 && local < patch.n_contacts)
+      trace += patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local).trace();
+  }
+  return trace;
+}
+
 void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
                                     Eigen::Ref<Eigen::VectorXd> rigid_work,
                                     Eigen::Ref<Eigen::VectorXd> out) const {

@@ -78,10 +78,8 @@ void ContactSolver::prepare(const ContactProblem& problem) {
     patch_of_.segment(patch.first_contact, patch.n_contacts).setConstant(static_cast<int>(j));
   }
   double trace_sum = 0.0;
-  for (int k = 0; k < n; ++k) {
-    const Eigen::Matrix3d block = problem.diagonal_block(k);
-    diag_blocks_.middleCols<3>(3 * k) = block;
-    const double trace = block.trace();
+  for (int k = 0; k < n; ++k) { // the blocks W_kk only for Gauss-Seidel (its local solves)
+    const double trace = problem.diagonal_trace(k);
     eta_[k] = trace > 0.0 ? 3.0 / trace : 1.0;
     trace_sum += trace;
   }

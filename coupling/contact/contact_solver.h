@@ -108,7 +108,7 @@ private:
   // Shared.
   Eigen::VectorXd velocity_;      // W p + v_free (3N)
   Eigen::VectorXd rigid_work_;    // m
-  Eigen::MatrixXd diag_blocks_;   // 3 x 3N, W_kk
+  Eigen::MatrixXd diag_blocks_;   // 3 x 3N, W_kk (set by solve_gauss_seidel)
   Eigen::MatrixXd diag_inverses_; // 3 x 3N, W_kk^-1 where has_inverse_ (local_inverse)
   Eigen::VectorXi has_inverse_;   // N
   Eigen::VectorXd eta_;           // N, 3 / trace(W_kk)

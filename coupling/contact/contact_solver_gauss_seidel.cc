@@ -49,7 +49,8 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   SolverResult result;
   const LocalSearch search =
       settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
-  for (int k = 0; k < n; ++k) { // W_kk^-1 for the sticking candidates of the local solves
+  for (int k = 0; k < n; ++k) { // W_kk and W_kk^-1 (the sticking candidates of local solves)
+    diag_blocks_.middleCols<3>(3 * k) = problem.diagonal_block(k);
     Eigen::Matrix3d inverse;
     has_inverse_[k] = local_inverse(diag_blocks_.middleCols<3>(3 * k), inverse) ? 1 : 0;
     if (has_inverse_[k])
@@ -59,6 +60,7 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   // through the sweeps; set by start_iteration() or by the direct solve's refused candidate.
   if (!start_ready_)
     start_iteration(problem, p);
+  const double skip = settings.sweep_skip * settings.tolerance;
   for (int sweep = 1; sweep <= settings.max_iterations; ++sweep) {
     // Every 50 sweeps, recompute y and the patch velocities from scratch to
     // limit the round-off drift of the incremental updates.
@@ -84,6 +86,9 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
         v_k[1] += g_c[1] * y_c;
         v_k[2] += g_c[2] * y_c;
       }
+      if (skip > 0.0 && contact_residual(p_old, v_k, problem.normal_bias[k], problem.friction[k],
+                                         eta_[k]) <= skip)
+        continue; // close enough: left for this sweep
       const Eigen::Vector3d q = v_k - block * p_old;
       const LocalSolution local =
           solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old, search,

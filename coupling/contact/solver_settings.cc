@@ -19,6 +19,8 @@ void SolverSettings::validate() const {
     bad("tolerance", tolerance, "(0, inf)");
   if (max_iterations < 1)
     bad("max_iterations", max_iterations, "[1, inf)");
+  if (!(sweep_skip >= 0.0 && sweep_skip < 1.0))
+    bad("sweep_skip", sweep_skip, "[0, 1)");
   if (!(rho_scale > 0.0) || !std::isfinite(rho_scale))
     bad("rho_scale", rho_scale, "(0, inf)");
   if (!(proximal_scale >= 0.0) || !std::isfinite(proximal_scale))

@@ -22,6 +22,11 @@ struct SolverSettings {
   /// 1 us per contact and sweep) so that non-unique ones are counted; false: only the
   /// preferred solution (LocalSearch::first, tens of ns), non-uniqueness not detected.
   bool enumerate_local_solutions = false;
+  /// Gauss-Seidel: a contact whose natural-map residual at its turn in a sweep is <=
+  /// sweep_skip * tolerance keeps its impulse for that sweep (no local solve, no column
+  /// update); the stopping test still asks every contact for <= tolerance. 0 updates every
+  /// contact. Range [0, 1).
+  double sweep_skip = 0.0;
   /// Before iterating, solve directly on the warm start's prediction: contacts with p_n > 0
   /// strictly inside the cone sticking, those on the cone held at their impulse (sliding), the
   /// others separated (p = 0). Needs every contact on a patch with the sticking structure

@@ -317,6 +317,9 @@ TEST(Cli, BadScenesGiveOneClearErrorAndNoOutput) {
       {"sweep-dt",
        "subsection Sweep\n  set Time steps = 0.001, 0.5\nend\n",
        {"Sweep/Time steps", "0.5", "(0, 0.01]"}},
+      {"sweep-skip",
+       "subsection Contact\n  set Sweep skip fraction = 1\nend\n",
+       {"Contact/Sweep skip fraction", "= 1", "in [0, 1)"}},
   };
   for (const auto& c : cases) {
     const auto scene = write_scene(std::string("bad-") + c.name, c.text);

@@ -255,6 +255,121 @@ TEST(ContactUnit, SolversSatisfyComplementarityToReportedResidual) {
   }
 }
 
+TEST(ContactUnit, GaussSeidelSweepSkipLeavesOnlyContactsWithinTheFraction) {
+  // Decoupled contacts (G = 0, block-diagonal patch): each contact's residual depends on its own
+  // impulse only. From the exact solution with contact 0 far off (residual 100 tol) and contact
+  // 1 off by 0.4 tol, one sweep with sweep_skip = 0.5 solves contact 0 and leaves contact 1
+  // bit for bit; with sweep_skip = 0 contact 1 is solved too.
+  const int n = 4;
+  pc::ContactProblem problem;
+  problem.resize(n, 1);
+  problem.n_contacts = n;
+  problem.rigid_factor.setZero();
+  pc::CompliantPatch patch;
+  patch.first_contact = 0;
+  patch.n_contacts = n;
+  patch.compliance_over_dt = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int k = 0; k < n; ++k) {
+    Eigen::Matrix3d a;
+    for (int i = 0; i < 9; ++i)
+      a(i % 3, i / 3) = unit(rng);
+    patch.compliance_over_dt.block<3, 3>(3 * k, 3 * k) =
+        a * a.transpose() + Eigen::Matrix3d::Identity();
+    problem.free_velocity.segment<3>(3 * k) << -1.0, 0.05 * unit(rng), 0.05 * unit(rng);
+    problem.friction[k] = 1.0;
+    problem.normal_bias[k] = 0.0;
+  }
+  problem.patches.push_back(patch);
+  Eigen::MatrixXd w;
+  problem.assemble_delassus(w);
+  const Eigen::VectorXd v_free = problem.free_velocity.head(3 * n);
+  const Eigen::VectorXd exact = -w.ldlt().solve(v_free); // every contact sticks
+  for (int k = 0; k < n; ++k)
+    ASSERT_LT(exact.segment<2>(3 * k + 1).norm(), 0.9 * exact[3 * k]);
+  const double tol = 1e-6;
+  auto residual_of = [&](const Eigen::VectorXd& p, int k) {
+    const Eigen::Vector3d v = (w * p + v_free).segment<3>(3 * k);
+    return pc::contact_residual(p.segment<3>(3 * k), v, 0.0, 1.0,
+                                3.0 / w.block<3, 3>(3 * k, 3 * k).trace());
+  };
+  Eigen::VectorXd start = exact;
+  const Eigen::Vector3d direction(1.0, 0.3, -0.2);
+  start.segment<3>(0) += 1e-4 * direction;
+  start.segment<3>(3) += 1e-7 * direction;
+  const double r0 = residual_of(start, 0), r1 = residual_of(start, 1);
+  start.segment<3>(3) = exact.segment<3>(3) + (0.4 * tol / r1) * 1e-7 * direction;
+  std::printf("start residuals: contact 0 %.3e, contact 1 %.3e m/s (tol %.0e)\n", r0,
+              residual_of(start, 1), tol);
+  ASSERT_GT(r0, 100 * tol);
+  ASSERT_NEAR(residual_of(start, 1), 0.4 * tol, 0.01 * tol);
+  pc::ContactSolver solver(n, 1);
+  for (const double skip : {0.5, 0.0}) {
+    pc::SolverSettings settings;
+    settings.solver = pc::ContactSolverType::gauss_seidel;
+    settings.sticking_direct = false;
+    settings.tolerance = tol;
+    settings.max_iterations = 1;
+    settings.sweep_skip = skip;
+    Eigen::VectorXd p = start;
+    const pc::SolverResult r = solver.solve(problem, settings, p);
+    const double error0 = (p.segment<3>(0) - exact.segment<3>(0)).norm();
+    const double error1 = (p.segment<3>(3) - exact.segment<3>(3)).norm();
+    std::printf("sweep_skip %.1f: one sweep, residual %.3e; |p_0 - p*_0| %.2e, |p_1 - p*_1| "
+                "%.2e\n",
+                skip, r.residual, error0, error1);
+    EXPECT_LE(error0, 1e-12);
+    if (skip > 0.0) {
+      EXPECT_EQ((p.segment<3>(3) - start.segment<3>(3)).norm(), 0.0);
+      EXPECT_NEAR(r.residual, 0.4 * tol, 0.01 * tol); // contact 1 left: converged, at 0.4 tol
+    } else {
+      EXPECT_LE(error1, 1e-12);
+    }
+    EXPECT_TRUE(r.converged());
+  }
+  // Coupled random problems: with the skip the solver still stops at the tolerance, judged by
+  // a dense W p, and agrees with the solution at 1e-12.
+  for (unsigned seed = 0; seed < 4; ++seed) {
+    const int nc = 12, m = 8;
+    pc::ContactProblem coupled = plantar::coupling::test::random_problem(nc, m, nc, 0.5, seed);
+    Eigen::MatrixXd wc;
+    coupled.assemble_delassus(wc);
+    pc::ContactSolver gs(nc, m);
+    Eigen::VectorXd reference = Eigen::VectorXd::Zero(3 * nc);
+    pc::SolverSettings settings;
+    settings.solver = pc::ContactSolverType::gauss_seidel;
+    settings.sticking_direct = false;
+    settings.max_iterations = 100000;
+    settings.tolerance = 1e-12;
+    ASSERT_TRUE(gs.solve(coupled, settings, reference).converged());
+    for (const double skip : {0.0, 0.5, 0.9}) {
+      settings.tolerance = 1e-7;
+      settings.sweep_skip = skip;
+      Eigen::VectorXd p = Eigen::VectorXd::Zero(3 * nc);
+      const pc::SolverResult r = gs.solve(coupled, settings, p);
+      const Eigen::VectorXd v = wc * p + coupled.free_velocity.head(3 * nc);
+      const double dense = pc::ContactSolver::complementarity_residual(coupled, p, v);
+      const double error = (p - reference).norm() / reference.norm();
+      std::printf("seed %u sweep_skip %.1f: %d sweeps, residual %.3e (dense W p %.3e), |p - "
+                  "p_ref| / |p_ref| %.2e\n",
+                  seed, skip, r.iterations, r.residual, dense, error);
+      EXPECT_TRUE(r.converged());
+      EXPECT_LE(dense, 1e-7 * (1 + 1e-6));
+      EXPECT_LE(error, 1e-6);
+    }
+  }
+  pc::SolverSettings bad;
+  bad.sweep_skip = 1.0;
+  try {
+    bad.validate();
+    FAIL() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("sweep_skip = 1, allowed [0, 1)"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(ContactUnit, LowRankApplicationMatchesDenseProduct) {
   pc::ContactProblem problem = plantar::coupling::test::random_problem(20, 7, 9, 2.0, 11);
   Eigen::MatrixXd w;
