@@ -96,10 +96,7 @@ bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
   for (int i = 0; i < count; ++i)
     b.middleRows<3>(3 * i) =
         patch.compliance_over_dt.block<3, 3>(3 * active_order_[first + i], 3 * node);
-  for (int c = 0; c < 3; ++c) {
-    auto column = b.col(c);
-    l.topLeftCorner(size, size).triangularView<Eigen::Lower>().solveInPlace(column);
-  }
+  solve_lower_three(l.data(), l.outerStride(), size, b.data(), b.outerStride());
   l.block(size, 0, 3, size) = b.transpose();
   Eigen::Matrix3d d = patch.compliance_over_dt.block<3, 3>(3 * node, 3 * node);
   d.noalias() -= b.transpose() * b;

@@ -24,4 +24,24 @@ PLANTAR_KERNEL_CLONES void add_three_columns(const double* columns, Eigen::Index
   }
 }
 
+PLANTAR_KERNEL_CLONES void solve_lower_three(const double* l, Eigen::Index stride, Eigen::Index n,
+                                             double* b, Eigen::Index b_stride) {
+  double* b0 = b;
+  double* b1 = b + b_stride;
+  double* b2 = b + 2 * b_stride;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double* column = l + j * stride;
+    const double inverse = 1.0 / column[j];
+    const double x0 = b0[j] * inverse, x1 = b1[j] * inverse, x2 = b2[j] * inverse;
+    b0[j] = x0;
+    b1[j] = x1;
+    b2[j] = x2;
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      b0[i] -= column[i] * x0;
+      b1[i] -= column[i] * x1;
+      b2[i] -= column[i] * x2;
+    }
+  }
+}
+
 } // namespace plantar::coupling

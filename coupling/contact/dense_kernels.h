@@ -1,5 +1,6 @@
 #pragma once
-// Inner kernels of the Gauss-Seidel sweep over a dense compliance block.
+// Inner kernels over dense compliance blocks and their factors (Gauss-Seidel sweep, direct
+// solve).
 
 #include <Eigen/Core>
 
@@ -13,5 +14,13 @@ namespace plantar::coupling {
 /// (chosen at load time on x86-64 with GCC), else for the baseline.
 void add_three_columns(const double* columns, Eigen::Index stride, Eigen::Index rows,
                        const double* d, double* w);
+
+/// Solves L X = B in place for three right-hand sides (forward substitution by columns of L:
+/// one pass over the triangle for all three, against three for three single solves).
+/// @param l lower triangle of L (n x n, column-major, @p stride between columns, nonzero
+/// diagonal). @param b the three columns of B (each n long, @p b_stride apart), overwritten
+/// by X. Same CPU dispatch as add_three_columns.
+void solve_lower_three(const double* l, Eigen::Index stride, Eigen::Index n, double* b,
+                       Eigen::Index b_stride);
 
 } // namespace plantar::coupling
