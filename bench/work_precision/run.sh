@@ -3,7 +3,7 @@
 #   bench/work_precision/run.sh [BUILD_DIR] [OUT_DIR] [extra work_precision options]
 # Builds the bench, runs it on scenes/drop.prm and scenes/walk.prm pinned to one core
 # (taskset -c 1 when available), writes OUT_DIR/work_precision.csv, the PNG plots and the
-# target runs (OUT_DIR/targets_*).
+# target runs (OUT_DIR/targets_*); OUT_DIR/tables.md holds the tables of docs/performance.md.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -21,6 +21,7 @@ mkdir -p "$out"
 $pin "$bench" "$root/scenes/drop.prm" "$root/scenes/walk.prm" --out "$out" --repeat 1 "$@" |
   tee "$out.txt"
 /usr/bin/python3 "$here/plot.py" "$out"
+/usr/bin/python3 "$here/table.py" "$out" >"$out/tables.md"
 # The targets: the whole 8 s walk at the scene setting and at the fast setting (+ rigid feet).
 $pin "$bench" "$root/scenes/walk.prm" --out "$out/targets_scene" --base-only --repeat 2 |
   tee "$out/targets_scene.txt"
