@@ -4,6 +4,7 @@
 
 #include "coupling/contact/coulomb_cone.h"
 #include "coupling/contact/dense_kernels.h"
+#include "coupling/contact/impulse_change.h"
 
 namespace plantar::coupling {
 
@@ -109,19 +110,8 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
       if (delta.squaredNorm() == 0.0)
         continue;
       p.segment<3>(3 * k) = p_new;
-      for (int c = 0; c < m; ++c) { // y += G_k^T dp
-        const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
-        rigid_work_[c] += g_c[0] * delta[0] + g_c[1] * delta[1] + g_c[2] * delta[2];
-      }
-      if (j >= 0) {
-        const CompliantPatch& patch = problem.patches[j];
-        const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
-        const int local_col = 3 * (k - patch.first_contact);
-        const Eigen::Vector3d delta_patch = patch.rotation.transpose() * delta;
-        add_three_columns(patch.compliance_over_dt.col(local_col).data(),
-                          patch.compliance_over_dt.outerStride(), size, delta_patch.data(),
-                          patch_velocity_.data() + first);
-      }
+      add_impulse_change(problem, j >= 0 ? &problem.patches[j] : nullptr, k, delta,
+                         rigid_work_.data(), patch_velocity_.data());
     }
     // Velocities of the current impulses (from the incremental state).
     velocity_.head(n3).noalias() = g * rigid_work_.head(m);

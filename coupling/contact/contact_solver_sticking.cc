@@ -25,6 +25,7 @@
 
 #include "coupling/contact/coulomb_cone.h"
 #include "coupling/contact/dense_kernels.h"
+#include "coupling/contact/impulse_change.h"
 
 #include <Eigen/Cholesky>
 #include <cmath>
@@ -369,15 +370,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     if (delta.squaredNorm() == 0.0)
       continue;
     sticking_full_.segment<3>(3 * k) += delta;
-    for (int c = 0; c < m; ++c) {
-      const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
-      rigid_work_[c] += g_c[0] * delta[0] + g_c[1] * delta[1] + g_c[2] * delta[2];
-    }
-    const CompliantPatch& patch = problem.patches[patch_of_[k]];
-    const Eigen::Vector3d delta_patch = patch.rotation.transpose() * delta;
-    add_three_columns(patch.compliance_over_dt.col(3 * (k - patch.first_contact)).data(),
-                      patch.compliance_over_dt.outerStride(), 3 * patch.n_contacts,
-                      delta_patch.data(), patch_velocity_.data() + 3 * patch.first_contact);
+    add_impulse_change(problem, &problem.patches[patch_of_[k]], k, delta, rigid_work_.data(),
+                       patch_velocity_.data());
   }
   impulses.head(n3) = sticking_full_.head(n3);
   start_ready_ = true;
