@@ -36,7 +36,6 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   sticking_full_.setZero(n3);
   sticking_work_.setZero(n3);
   sticking_columns_.setZero(n3, 3);
-  sticking_product_.setZero(n3, 3);
   active_factor_.setZero(n3, n3);
   active_lever_solve_.setZero(n3, 6);
   active_gram_.setZero(6, 6 * max_contacts);

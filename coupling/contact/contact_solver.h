@@ -119,20 +119,19 @@ private:
   Eigen::VectorXd projection_change_; // warm start projected onto the cones minus given (3N)
   bool warm_products_usable_ = false; // settings.warm_start of this solve
   // Direct solve on the warm start's active set (contact_solver_sticking.cc). Per patch j,
-  // H = C_AA^-1 (its active nodes, in the order of active_order_) is kept between solves at
-  // rows and columns 3 first_contact and updated node by node.
+  // the Cholesky factor of C_AA (its active nodes, in the order of the factor) is kept
+  // between solves at rows and columns 3 first_contact and updated node by node.
   bool update_active_factor(const ContactProblem& problem, int j);
-  bool remove_active_node(const CompliantPatch& patch, int position);
+  void remove_active_node(int first, int position);
   bool append_active_node(const CompliantPatch& patch, int node);
-  Eigen::VectorXd sticking_p_;         // 3N, factor order: x = H c', then p~_A
+  Eigen::VectorXd sticking_p_;         // 3N, factor order: x = L^-1 c', then p~_A
   Eigen::VectorXd sticking_c_;         // 3N, factor order: c~ = (I (x) R)^T (v_free + b e_n)
   Eigen::VectorXd sticking_full_;      // 3N, candidate impulses (contact frames)
-  Eigen::VectorXd sticking_work_;      // 3N, c' of a patch (factor order), p~ (node order)
-  Eigen::MatrixXd sticking_columns_;   // 3N x 3, an appended node's columns B; a removed one's K
-  Eigen::MatrixXd sticking_product_;   // 3N x 3, H B, then K
-  Eigen::MatrixXd active_factor_;      // 3N x 3N, H = C_AA^-1 per patch (lower triangle)
-  Eigen::MatrixXd active_lever_solve_; // 3N x 6, Y = H Lambda_A (factor order)
-  Eigen::MatrixXd active_gram_;        // 6 x 6N, Lambda_A^T Y = Lambda_A^T C_AA^-1 Lambda_A
+  Eigen::VectorXd sticking_work_;      // 3N, rank-1 update vector
+  Eigen::MatrixXd sticking_columns_;   // 3N x 3, an appended node's columns
+  Eigen::MatrixXd active_factor_;      // 3N x 3N, L of C_AA per patch
+  Eigen::MatrixXd active_lever_solve_; // 3N x 6, Z = L^-1 Lambda_A (factor order)
+  Eigen::MatrixXd active_gram_;        // 6 x 6N, Z^T Z = Lambda_A^T C_AA^-1 Lambda_A at 6 first
   Eigen::VectorXi active_order_;       // N: at first + i, the local node of position i
   Eigen::VectorXi active_position_;    // N: position of contact k in its patch's factor, -1
   Eigen::VectorXi active_owner_;       // N: patch whose factor occupies contact k's rows

@@ -8,22 +8,19 @@
 // c' = v_free + b e_n + W_AS p_S. With every contact on a patch whose rigid rows are
 // G_j = (I (x) R_j) Lambda_j T_j (CompliantPatch::lever, lever_map) and
 // D_A = blockdiag((I (x) R_j) C_j,AA (I (x) R_j)^T), C_j = C/dt^2 in the patch frame,
-// Woodbury gives, in patch frames, with H = C_j,AA^-1 and Y = H Lambda_j,A:
-//   x_j = H c~'_j,A                                      (one product with H)
-//   S z = sum_j T_j^T Y^T c~'_j,A,   S = I_m + sum_j T_j^T (Lambda_A^T Y) T_j
-//   p~_j,A = -(x_j - Y T_j z)
+// Woodbury gives, in patch frames, with L L^T = C_j,AA and Z = L^-1 Lambda_j,A:
+//   x_j = L^-1 c~'_j,A                                   (one triangular solve)
+//   S z = sum_j T_j^T Z^T x_j,   S = I_m + sum_j T_j^T (Z^T Z) T_j
+//   p~_j,A = -L^-T (x_j - Z T_j z)                      (one triangular solve)
 // The candidate is kept when every p_A lies in its cone and the natural-map residual of all
 // contacts (the separated ones need v_n + b >= 0) meets the tolerance; it is then a solution
 // of the contact problem. Otherwise it is projected onto the cones and the iterative solver
 // starts from it (with its G^T p and patch products), not from the warm start.
 //
-// H (symmetric, held in its lower triangle), Y and Lambda_A^T Y are kept between solves and
-// updated node by node when A changes: adding a node borders H (a product of H with the
-// node's three columns of C and a rank-3 update, O(|A|^2)); removing one swaps it to the end
-// and takes the Schur complement (a rank-3 update, O(|A|^2)). H is rebuilt from scratch
-// after 60 updates (round-off), or when a 3 x 3 pivot is not positive definite. The product
-// with H reads the triangle once, where the two triangular solves with a Cholesky factor it
-// replaces are bound by their dependency chains.
+// L, Z and Z^T Z are kept between solves and updated node by node when A changes: adding a
+// node is a triangular solve for its rows of L and Z (O(|A|^2)); removing one is a rank-3
+// update of the trailing factor whose rotations also update Z and Z^T Z (O(|A|^2)); the
+// factor is rebuilt from scratch after 60 updates.
 #include "coupling/contact/contact_solver.h"
 
 #include "coupling/contact/coulomb_cone.h"
@@ -32,7 +29,6 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
-#include <utility>
 
 namespace plantar::coupling {
 
@@ -41,149 +37,92 @@ using Vector6 = Eigen::Matrix<double, 6, 1>;
 constexpr int kMaxUpdates = 60; // factor updates before a rebuild (round-off)
 } // namespace
 
-namespace {
-// In place: the lower Cholesky factor L of a symmetric 3 x 3 @p s (upper part left); false
-// when s is not positive definite.
-bool cholesky3(Eigen::Matrix3d& s) {
-  for (int j = 0; j < 3; ++j) {
-    double djj = s(j, j);
-    for (int t = 0; t < j; ++t)
-      djj -= s(j, t) * s(j, t);
-    if (!(djj > 0.0))
-      return false;
-    s(j, j) = std::sqrt(djj);
-    for (int i = j + 1; i < 3; ++i) {
-      double dij = s(i, j);
-      for (int t = 0; t < j; ++t)
-        dij -= s(i, t) * s(j, t);
-      s(i, j) = dij / s(j, j);
-    }
-  }
-  return true;
-}
-
-// X <- X L^-T (X: rows x 3, L lower 3 x 3), by columns.
-template <typename Block> void solve_right_transposed(const Eigen::Matrix3d& l, Block&& x) {
-  x.col(0) /= l(0, 0);
-  x.col(1) = (x.col(1) - l(1, 0) * x.col(0)) / l(1, 1);
-  x.col(2) = (x.col(2) - l(2, 0) * x.col(0) - l(2, 1) * x.col(1)) / l(2, 2);
-}
-
-// G <- L^-1 G (3 x c), L lower 3 x 3.
-template <typename Matrix> void solve_lower(const Eigen::Matrix3d& l, Matrix& g) {
-  g.row(0) /= l(0, 0);
-  g.row(1) = (g.row(1) - l(1, 0) * g.row(0)) / l(1, 1);
-  g.row(2) = (g.row(2) - l(2, 0) * g.row(0) - l(2, 1) * g.row(1)) / l(2, 2);
-}
-
-// G <- L^-T G (3 x c), L lower 3 x 3.
-template <typename Matrix> void solve_upper_transposed(const Eigen::Matrix3d& l, Matrix& g) {
-  g.row(2) /= l(2, 2);
-  g.row(1) = (g.row(1) - l(2, 1) * g.row(2)) / l(1, 1);
-  g.row(0) = (g.row(0) - l(1, 0) * g.row(1) - l(2, 0) * g.row(2)) / l(0, 0);
-}
-
-// The lower triangle of H (n x n at @p h) += sign K K^T, K = the first n rows of @p k
-// (n x 3), a column at a time (add_three_columns).
-template <typename HBlock, typename KBlock>
-void add_rank_three(HBlock&& h, const KBlock& k, Eigen::Index n, double sign) {
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double d[3] = {sign * k(i, 0), sign * k(i, 1), sign * k(i, 2)};
-    add_three_columns(k.data() + i, k.outerStride(), n - i, d, h.data() + i * h.outerStride() + i);
-  }
-}
-
-// Symmetric permutation of indices a < b of H held in its lower triangle (LAPACK's syswapr).
-template <typename HBlock> void swap_symmetric_lower(HBlock&& h, Eigen::Index a, Eigen::Index b) {
-  const Eigen::Index n = h.rows();
-  std::swap(h(a, a), h(b, b));
-  for (Eigen::Index j = 0; j < a; ++j)
-    std::swap(h(a, j), h(b, j));
-  for (Eigen::Index j = a + 1; j < b; ++j)
-    std::swap(h(j, a), h(b, j));
-  for (Eigen::Index j = b + 1; j < n; ++j)
-    std::swap(h(j, a), h(j, b));
-}
-} // namespace
-
-bool ContactSolver::remove_active_node(const CompliantPatch& patch, int position) {
-  // The node's block is swapped with the last one (H needs no order), then dropped: the
-  // inverse without it is the Schur complement H11' = H11 - h Hnn^-1 h^T, h = H(1, n).
-  const int first = patch.first_contact;
+void ContactSolver::remove_active_node(int first, int position) {
+  // L = [L11 0 0; L21 L22 0; L31 L32 L33] with the node's block in the middle: the factor
+  // without it is [L11 0; L31 L33'] with L33' L33'^T = L33 L33^T + L32 L32^T.
   const int base = 3 * first;
   const int count = active_count_[active_owner_[first]];
-  const int size = 3 * count, last = size - 3, r = 3 * position;
-  auto h = active_factor_.block(base, base, size, size);
-  auto y = active_lever_solve_.middleRows(base, size);
-  if (r != last) {
-    for (int c = 0; c < 3; ++c)
-      swap_symmetric_lower(h, r + c, last + c);
-    y.middleRows<3>(r).swap(y.middleRows<3>(last));
-    const int moved = active_order_[first + count - 1];
-    active_order_[first + position] = moved;
-    active_position_[first + moved] = position;
-  }
-  Eigen::Matrix3d l = h.block<3, 3>(last, last);
-  if (!cholesky3(l)) // H is positive definite; only round-off could break it
-    return false;
-  auto k = sticking_columns_.topRows(last);
-  k = h.block(last, 0, 3, last).transpose();
-  // Y = H Lambda_A: Y1' = Y1 - h Hnn^-1 Yn = Y1 - K a with a = L^-1 Yn; Lambda^T Y loses a^T a.
-  Eigen::Matrix<double, 3, 6> a = y.middleRows<3>(last);
-  solve_lower(l, a);
-  solve_right_transposed(l, k);     // K = h L^-T
-  add_rank_three(h, k, last, -1.0); // H11 - K K^T
-  y.topRows(last).noalias() -= k * a;
+  const int size = 3 * count;
+  const int r = 3 * position;
+  const int k = size - r - 3;
+  auto l = active_factor_.block(base, base, size, size);
+  // Z = L^-1 Lambda_A follows: L33' Z3' = L33 Z3 + L32 Z2, so the rotations [L33 x] Q =
+  // [L33' 0] act on the rows of [Z3; z^T] (z: a row of Z2); the Gram Z^T Z loses the z left.
+  auto z = active_lever_solve_.middleRows(base, size);
   Eigen::Matrix<double, 6, 6> gram = active_gram_.middleCols<6>(6 * first);
-  gram.noalias() -= a.transpose() * a;
-  active_gram_.middleCols<6>(6 * first) = 0.5 * (gram + gram.transpose());
-  return true;
+  for (int c = 0; c < 3; ++c) { // three rank-1 updates of L33
+    auto x = sticking_work_.head(k);
+    x = l.block(r + 3, r + c, k, 1);
+    Vector6 z_row = z.row(r + c).transpose();
+    for (int i = 0; i < k; ++i) {
+      const double lii = l(r + 3 + i, r + 3 + i);
+      const double rho = std::sqrt(lii * lii + x[i] * x[i]);
+      const double cs = rho / lii, sn = x[i] / lii;
+      l(r + 3 + i, r + 3 + i) = rho;
+      for (int t = i + 1; t < k; ++t) {
+        const double li = (l(r + 3 + t, r + 3 + i) + sn * x[t]) / cs;
+        x[t] = cs * x[t] - sn * li;
+        l(r + 3 + t, r + 3 + i) = li;
+      }
+      const Vector6 zi = (z.row(r + 3 + i).transpose() + sn * z_row) / cs;
+      z_row = cs * z_row - sn * zi;
+      z.row(r + 3 + i) = zi.transpose();
+    }
+    gram.noalias() -= z_row * z_row.transpose();
+  }
+  active_gram_.middleCols<6>(6 * first) = gram;
+  for (int row = r; row < size - 3; ++row)
+    z.row(row) = z.row(row + 3);
+  // Shift the rows below the node up by 3 (columns before it), then L33' up and left by 3.
+  for (int col = 0; col < r; ++col)
+    for (int row = r; row < size - 3; ++row)
+      l(row, col) = l(row + 3, col);
+  for (int col = 0; col < k; ++col)
+    for (int row = col; row < k; ++row)
+      l(r + row, r + col) = l(r + 3 + row, r + 3 + col);
+  for (int i = position; i + 1 < count; ++i) {
+    active_order_[first + i] = active_order_[first + i + 1];
+    active_position_[first + active_order_[first + i]] = i;
+  }
 }
 
 bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
-  // Bordering: with B = C_A,n, U = H B and S = C_nn - B^T U = L L^T (3 x 3),
-  //   H' = [H + U S^-1 U^T, -U S^-1; -S^-1 U^T, S^-1];  with K = U L^-T, U S^-1 = K L^-1.
+  // New rows [B^T L^-T, chol(C_nn - B^T C_AA^-1 B)], B = C_A,n (3 |A| x 3).
   const int first = patch.first_contact;
   const int base = 3 * first;
   int& count = active_count_[active_owner_[first]];
   const int size = 3 * count;
-  auto h = active_factor_.block(base, base, size + 3, size + 3);
+  auto l = active_factor_.block(base, base, size + 3, size + 3);
   auto b = sticking_columns_.topRows(size);
   for (int i = 0; i < count; ++i)
     b.middleRows<3>(3 * i) =
         patch.compliance_over_dt.block<3, 3>(3 * active_order_[first + i], 3 * node);
-  auto u = sticking_product_.topRows(size);
-  if (size > 0)
-    symmetric_lower_times_three(h.data(), h.outerStride(), size, b.data(), b.outerStride(),
-                                u.data(), u.outerStride());
-  Eigen::Matrix3d l = patch.compliance_over_dt.block<3, 3>(3 * node, 3 * node);
-  l.noalias() -= b.transpose() * u;
-  l = (0.5 * (l + l.transpose())).eval();
-  if (!cholesky3(l))
-    return false;
-  // Y = H Lambda_A: with r = Lambda_n - B^T Y and g = L^-1 r, Y_A' = Y_A - K g, Y_n = L^-T g;
-  // Z^T Z = Lambda_A^T Y gains g^T g.
-  auto y = active_lever_solve_.middleRows(base, size + 3);
-  Eigen::Matrix<double, 3, 6> g = patch.lever.middleRows<3>(3 * node);
-  g.noalias() -= b.transpose() * y.topRows(size);
-  solve_lower(l, g);
-  solve_right_transposed(l, u); // K
-  add_rank_three(h, u, size, 1.0);
-  y.topRows(size).noalias() -= u * g;
-  y.bottomRows<3>() = g;
-  Eigen::Matrix<double, 6, 6> gram = active_gram_.middleCols<6>(6 * first);
-  gram.noalias() += g.transpose() * g;
-  active_gram_.middleCols<6>(6 * first) = 0.5 * (gram + gram.transpose());
-  auto y_n = y.bottomRows<3>();
-  solve_upper_transposed(l, y_n);
-  // -K L^-1 (by columns, last first) and S^-1 = L^-T L^-1.
-  u.col(2) /= l(2, 2);
-  u.col(1) = (u.col(1) - l(2, 1) * u.col(2)) / l(1, 1);
-  u.col(0) = (u.col(0) - l(1, 0) * u.col(1) - l(2, 0) * u.col(2)) / l(0, 0);
-  h.block(size, 0, 3, size) = -u.transpose();
-  Eigen::Matrix3d l_inverse = Eigen::Matrix3d::Identity();
-  solve_lower(l, l_inverse);
-  h.block<3, 3>(size, size).noalias() = l_inverse.transpose() * l_inverse;
+  solve_lower_three(l.data(), l.outerStride(), size, b.data(), b.outerStride());
+  l.block(size, 0, 3, size) = b.transpose();
+  Eigen::Matrix3d d = patch.compliance_over_dt.block<3, 3>(3 * node, 3 * node);
+  d.noalias() -= b.transpose() * b;
+  for (int j = 0; j < 3; ++j) { // 3 x 3 Cholesky
+    double djj = d(j, j);
+    for (int t = 0; t < j; ++t)
+      djj -= d(j, t) * d(j, t);
+    if (!(djj > 0.0))
+      return false;
+    d(j, j) = std::sqrt(djj);
+    for (int i = j + 1; i < 3; ++i) {
+      double dij = d(i, j);
+      for (int t = 0; t < j; ++t)
+        dij -= d(i, t) * d(j, t);
+      d(i, j) = dij / d(j, j);
+    }
+  }
+  l.block<3, 3>(size, size) = d.triangularView<Eigen::Lower>();
+  // Z = L^-1 Lambda_A gains the rows d^-1 (Lambda_n - b^T Z_A); Z^T Z gains their Gram.
+  auto z = active_lever_solve_.middleRows(base, size + 3);
+  Eigen::Matrix<double, 3, 6> z_n = patch.lever.middleRows<3>(3 * node);
+  z_n.noalias() -= b.transpose() * z.topRows(size);
+  d.triangularView<Eigen::Lower>().solveInPlace(z_n);
+  z.bottomRows<3>() = z_n;
+  active_gram_.middleCols<6>(6 * first).noalias() += z_n.transpose() * z_n;
   active_order_[first + count] = node;
   active_position_[first + node] = count;
   ++count;
@@ -211,10 +150,7 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
   for (int i = active_count_[j] - 1; i >= 0; --i) {
     const int node = active_order_[first + i];
     if (!wanted_[first + node]) {
-      if (!remove_active_node(patch, i)) {
-        active_version_[j] = -1; // not positive definite: start again next time
-        return false;
-      }
+      remove_active_node(first, i);
       active_position_[first + node] = -1;
       --active_count_[j];
       ++active_updates_[j];
@@ -307,9 +243,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     }
     if (count == 0)
       continue;
-    // x = H c'; Lambda_A^T C_AA^-1 c' = Y^T c'.
+    // x = L^-1 c'; Lambda_A^T C_AA^-1 c' = Z^T x.
     auto c = sticking_c_.segment(3 * first, 3 * count);
-    auto c_prime = sticking_work_.head(3 * count);
     auto x = sticking_p_.segment(3 * first, 3 * count);
     const Vector6 u_sliding = patch.lever_map * g_sliding;
     for (int i = 0; i < count; ++i) {
@@ -318,13 +253,13 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       Eigen::Vector3d c_k = problem.free_velocity.segment<3>(3 * k);
       c_k[0] += problem.normal_bias[k];
       c.segment<3>(3 * i).noalias() = patch.rotation.transpose() * c_k;
-      c_prime.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
-                                  patch.lever.middleRows<3>(3 * node) * u_sliding;
+      x.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
+                            patch.lever.middleRows<3>(3 * node) * u_sliding;
     }
-    x.noalias() = active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
-                      .selfadjointView<Eigen::Lower>() *
-                  c_prime;
-    const Vector6 t = active_lever_solve_.middleRows(3 * first, 3 * count).transpose() * c_prime;
+    active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
+        .triangularView<Eigen::Lower>()
+        .solveInPlace(x);
+    const Vector6 t = active_lever_solve_.middleRows(3 * first, 3 * count).transpose() * x;
     sticking_y_.noalias() += patch.lever_map.transpose() * t;
     sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * patch.lever_map;
     sticking_capacitance_.noalias() += patch.lever_map.transpose() * sticking_map_;
@@ -347,10 +282,14 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     const int first = patch.first_contact, count = patch.n_contacts > 0 ? active_count_[j] : 0;
     if (count == 0)
       continue;
-    // p~_A = -(H c' - Y T z)
+    // p~_A = -L^-T (L^-1 c' - Z T z)
     auto x = sticking_p_.segment(3 * first, 3 * count);
     const Vector6 u = patch.lever_map * sticking_y_;
     x.noalias() -= active_lever_solve_.middleRows(3 * first, 3 * count) * u;
+    active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
+        .triangularView<Eigen::Lower>()
+        .transpose()
+        .solveInPlace(x);
     x = -x;
     Vector6 t = Vector6::Zero();
     for (int i = 0; i < count; ++i) {

@@ -24,38 +24,22 @@ PLANTAR_KERNEL_CLONES void add_three_columns(const double* columns, Eigen::Index
   }
 }
 
-// Per column j of the triangle: an axpy below the diagonal and a dot product (four partial
-// sums) for row j, for each of the three columns of B.
-PLANTAR_KERNEL_CLONES void symmetric_lower_times_three(const double* h, Eigen::Index stride,
-                                                       Eigen::Index n, const double* b,
-                                                       Eigen::Index b_stride, double* u,
-                                                       Eigen::Index u_stride) {
-  for (int r = 0; r < 3; ++r)
-    for (Eigen::Index i = 0; i < n; ++i)
-      u[r * u_stride + i] = 0.0;
+PLANTAR_KERNEL_CLONES void solve_lower_three(const double* l, Eigen::Index stride, Eigen::Index n,
+                                             double* b, Eigen::Index b_stride) {
+  double* b0 = b;
+  double* b1 = b + b_stride;
+  double* b2 = b + 2 * b_stride;
   for (Eigen::Index j = 0; j < n; ++j) {
-    const double* __restrict column = h + j * stride;
-    for (int r = 0; r < 3; ++r) {
-      const double* __restrict br = b + r * b_stride;
-      double* __restrict ur = u + r * u_stride;
-      const double bj = br[j];
-      double t0 = 0.0, t1 = 0.0, t2 = 0.0, t3 = 0.0;
-      Eigen::Index i = j + 1;
-      for (; i + 4 <= n; i += 4) {
-        ur[i] += column[i] * bj;
-        ur[i + 1] += column[i + 1] * bj;
-        ur[i + 2] += column[i + 2] * bj;
-        ur[i + 3] += column[i + 3] * bj;
-        t0 += column[i] * br[i];
-        t1 += column[i + 1] * br[i + 1];
-        t2 += column[i + 2] * br[i + 2];
-        t3 += column[i + 3] * br[i + 3];
-      }
-      for (; i < n; ++i) {
-        ur[i] += column[i] * bj;
-        t0 += column[i] * br[i];
-      }
-      ur[j] += column[j] * bj + ((t0 + t1) + (t2 + t3));
+    const double* column = l + j * stride;
+    const double inverse = 1.0 / column[j];
+    const double x0 = b0[j] * inverse, x1 = b1[j] * inverse, x2 = b2[j] * inverse;
+    b0[j] = x0;
+    b1[j] = x1;
+    b2[j] = x2;
+    for (Eigen::Index i = j + 1; i < n; ++i) {
+      b0[i] -= column[i] * x0;
+      b1[i] -= column[i] * x1;
+      b2[i] -= column[i] * x2;
     }
   }
 }

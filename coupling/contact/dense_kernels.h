@@ -1,6 +1,6 @@
 #pragma once
-// Inner kernels over dense compliance blocks and the kept inverse of their active part
-// (Gauss-Seidel sweep, direct solve).
+// Inner kernels over dense compliance blocks and their factors (Gauss-Seidel sweep, direct
+// solve).
 
 #include <Eigen/Core>
 
@@ -15,14 +15,12 @@ namespace plantar::coupling {
 void add_three_columns(const double* columns, Eigen::Index stride, Eigen::Index rows,
                        const double* d, double* w);
 
-/// U = H B for a symmetric H held in its lower triangle and three columns B (one pass over
-/// the triangle for all three).
-/// @param h lower triangle of H (n x n, column-major, @p stride between columns; the upper
-/// part is not read). @param b the three columns of B (each n long, @p b_stride apart). @param u
-/// the three columns of U (@p u_stride apart, overwritten; must not overlap H or B). Same CPU
-/// dispatch as add_three_columns.
-void symmetric_lower_times_three(const double* h, Eigen::Index stride, Eigen::Index n,
-                                 const double* b, Eigen::Index b_stride, double* u,
-                                 Eigen::Index u_stride);
+/// Solves L X = B in place for three right-hand sides (forward substitution by columns of L:
+/// one pass over the triangle for all three, against three for three single solves).
+/// @param l lower triangle of L (n x n, column-major, @p stride between columns, nonzero
+/// diagonal). @param b the three columns of B (each n long, @p b_stride apart), overwritten
+/// by X. Same CPU dispatch as add_three_columns.
+void solve_lower_three(const double* l, Eigen::Index stride, Eigen::Index n, double* b,
+                       Eigen::Index b_stride);
 
 } // namespace plantar::coupling

@@ -527,27 +527,25 @@ TEST(ContactUnit, ColumnKernelMatchesEigenProduct) {
   EXPECT_LE(worst, 1e-14);
 }
 
-TEST(ContactUnit, SymmetricLowerThreeColumnProductMatchesEigen) {
-  // symmetric_lower_times_three against Eigen's product with the full symmetric matrix, every
-  // order 1..80, padded strides; the upper triangle holds NaN, so a kernel that read it would fail.
+TEST(ContactUnit, ThreeColumnTriangularSolveMatchesEigen) {
+  // solve_lower_three against Eigen's triangular solve, every order 1..80, padded strides; the
+  // factor is that of an SPD matrix (as in the direct solve), so the error is round-off.
   std::mt19937 rng(6);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   double worst = 0.0;
   for (int n = 1; n <= 80; ++n) {
     Eigen::MatrixXd a = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return unit(rng); });
-    a = (a + a.transpose()).eval();
-    Eigen::MatrixXd stored = Eigen::MatrixXd::Constant(n + 4, n, std::nan(""));
-    stored.topRows(n).triangularView<Eigen::Lower>() = a;
-    const Eigen::MatrixXd b = Eigen::MatrixXd::NullaryExpr(n + 3, 3, [&] { return unit(rng); });
-    const Eigen::MatrixXd expected = a * b.topRows(n);
-    Eigen::MatrixXd u = Eigen::MatrixXd::Constant(n + 2, 3, 7.0);
-    pc::symmetric_lower_times_three(stored.data(), stored.rows(), n, b.data(), b.rows(), u.data(),
-                                    u.rows());
-    const double scale = expected.cwiseAbs().maxCoeff();
-    worst = std::max(worst, (u.topRows(n) - expected).cwiseAbs().maxCoeff() / scale);
+    a = a * a.transpose() + n * Eigen::MatrixXd::Identity(n, n);
+    Eigen::MatrixXd l = Eigen::MatrixXd::Zero(n + 4, n);
+    l.topRows(n) = a.llt().matrixL();
+    Eigen::MatrixXd b = Eigen::MatrixXd::NullaryExpr(n + 3, 3, [&] { return unit(rng); });
+    Eigen::MatrixXd expected = b.topRows(n);
+    l.topRows(n).triangularView<Eigen::Lower>().solveInPlace(expected);
+    pc::solve_lower_three(l.data(), l.rows(), n, b.data(), b.rows());
+    worst = std::max(worst, (b.topRows(n) - expected).cwiseAbs().maxCoeff() /
+                                expected.cwiseAbs().maxCoeff());
   }
-  std::printf("symmetric lower-triangle product, three columns, vs Eigen: max relative difference "
-              "%.2e (tol "
+  std::printf("three-column triangular solve vs Eigen: max relative difference %.2e (tol "
               "1e-14)\n",
               worst);
   EXPECT_LE(worst, 1e-14);
