@@ -5,6 +5,8 @@
 #include "coupling/contact/contact_problem.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/QR>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -21,8 +23,11 @@ struct StickingProblem {
 /// |p_t| = @p friction_use mu p_n on every contact; contact @p outside_contact (if >= 0) has
 /// |p_t| = 1.5 mu p_n instead (no sticking solution: the direct solve must refuse it).
 /// v_free = -W p* - b e_n, so p* solves the sticking system W p = -(v_free + b e_n).
+/// With @p condition > 0, each C/dt^2 is instead patch_scale Q diag(lambda) Q^T, Q orthogonal
+/// (random), lambda from 1 down to 1/condition evenly in log (condition number @p condition).
 inline StickingProblem sticking_problem(int n_nodes, int m, double patch_scale, double friction_use,
-                                        int outside_contact, unsigned seed) {
+                                        int outside_contact, unsigned seed,
+                                        double condition = 0.0) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   const int n = 2 * n_nodes;
@@ -41,8 +46,19 @@ inline StickingProblem sticking_problem(int n_nodes, int m, double patch_scale, 
     for (int r = 0; r < a.rows(); ++r)
       for (int c = 0; c < a.cols(); ++c)
         a(r, c) = unit(rng);
-    patch.compliance_over_dt = patch_scale * (a * a.transpose() / a.rows() +
-                                              0.05 * Eigen::MatrixXd::Identity(a.rows(), a.rows()));
+    if (condition > 0.0) {
+      const Eigen::MatrixXd q = a.householderQr().householderQ();
+      Eigen::VectorXd lambda(a.rows());
+      for (Eigen::Index i = 0; i < a.rows(); ++i)
+        lambda[i] = std::pow(condition, -double(i) / double(a.rows() - 1));
+      patch.compliance_over_dt = patch_scale * q * lambda.asDiagonal() * q.transpose();
+      patch.compliance_over_dt =
+          (0.5 * (patch.compliance_over_dt + patch.compliance_over_dt.transpose())).eval();
+    } else {
+      patch.compliance_over_dt =
+          patch_scale *
+          (a * a.transpose() / a.rows() + 0.05 * Eigen::MatrixXd::Identity(a.rows(), a.rows()));
+    }
     patch.rotation =
         Eigen::AngleAxisd(0.4 * unit(rng), Eigen::Vector3d(unit(rng), unit(rng), 1).normalized())
             .toRotationMatrix();
