@@ -394,6 +394,14 @@ void HumanoidSimulation::step() {
     summary_.max_solver_residual = std::max(summary_.max_solver_residual, report.solver.residual);
     ++summary_.n_solves;
     summary_.n_direct_solves += report.solver.direct ? 1 : 0;
+    const coupling::DirectAttempt attempt = report.solver.direct_attempt;
+    summary_.n_direct_refused_cone += attempt == coupling::DirectAttempt::refused_cone ? 1 : 0;
+    summary_.n_direct_refused_residual +=
+        attempt == coupling::DirectAttempt::refused_residual ? 1 : 0;
+    if (attempt == coupling::DirectAttempt::refused_cone ||
+        attempt == coupling::DirectAttempt::refused_residual)
+      summary_.iterations_after_refusal += report.solver.iterations;
+    summary_.n_local_solves += report.solver.n_local_solves;
     summary_.solver_iterations += report.solver.iterations;
     summary_.max_solver_iterations =
         std::max(summary_.max_solver_iterations, static_cast<int>(report.solver.iterations));

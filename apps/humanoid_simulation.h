@@ -53,6 +53,10 @@ struct HumanoidSummary {
   double max_solver_residual = 0;      ///< m/s, over all solves
   int n_solves = 0;                    ///< contact solves (steps with active contacts)
   int n_direct_solves = 0;             ///< of which solved directly (every contact sticking)
+  int n_direct_refused_cone = 0;       ///< direct candidate refused: a contact left its cone
+  int n_direct_refused_residual = 0;   ///< direct candidate refused on the residual
+  long iterations_after_refusal = 0;   ///< iterations of the solves whose candidate was refused
+  long n_local_solves = 0;             ///< Gauss-Seidel local solves, summed over the solves
   long solver_iterations = 0;          ///< contact-solver iterations, summed over the solves
   int max_solver_iterations = 0;       ///< most iterations of one solve
   double max_penetration = 0;          ///< m, deepest contact point (deformed sole included)

@@ -67,6 +67,10 @@ struct Result {
   int contacts_per_foot = 0, max_contacts = 0;
   double mean_iterations = 0;
   double direct_fraction = 0; // solves done by the direct all-sticking solve
+  // Solves whose direct candidate was refused (a contact outside its cone / on the residual),
+  // Gauss-Seidel sweeps per refused solve, local solves per sweep.
+  double refused_cone_fraction = 0, refused_residual_fraction = 0;
+  double sweeps_after_refusal = 0, local_solves_per_sweep = 0;
   double peak_az = 0, max_deformation = 0;
   std::vector<double> impulse; // vertical impulse per step, N s
   std::vector<double> vz;      // waist vertical velocity per step (world frame), m/s
@@ -151,6 +155,17 @@ void run_one(const Scene& scene, Result& result, int repeat) {
           summary.n_solves > 0 ? double(summary.solver_iterations) / summary.n_solves : 0;
       result.direct_fraction =
           summary.n_solves > 0 ? double(summary.n_direct_solves) / summary.n_solves : 0;
+      const int n_refused = summary.n_direct_refused_cone + summary.n_direct_refused_residual;
+      result.refused_cone_fraction =
+          summary.n_solves > 0 ? double(summary.n_direct_refused_cone) / summary.n_solves : 0;
+      result.refused_residual_fraction =
+          summary.n_solves > 0 ? double(summary.n_direct_refused_residual) / summary.n_solves : 0;
+      result.sweeps_after_refusal =
+          n_refused > 0 ? double(summary.iterations_after_refusal) / n_refused : 0;
+      result.local_solves_per_sweep =
+          summary.solver_iterations > 0
+              ? double(summary.n_local_solves) / double(summary.solver_iterations)
+              : 0;
       result.peak_az = summary.max_waist_acceleration_z;
       result.max_deformation = max_deformation;
       result.impulse = impulse;
@@ -431,7 +446,9 @@ int main(int argc, char** argv) {
          "mean_iterations,cpu_per_sim_s,wall_per_sim_s,dynamics,contact_build,sole_update,contact_"
          "solve,"
          "other,setup_s,peak_az,max_deformation,e_a,e_u,e_p,solve_us,pass_us,solve_over_pass,"
-         "compared_until_s,peak_az_walk,peak_az_avg10,e_a_walk,e_a_avg10,direct_fraction\n";
+         "compared_until_s,peak_az_walk,peak_az_avg10,e_a_walk,e_a_avg10,direct_fraction,"
+         "refused_cone_fraction,refused_residual_fraction,sweeps_after_refusal,"
+         "local_solves_per_sweep\n";
   std::printf(
       "%-5s %-11s %-13s %8s %8s %6s %7s %8s %8s %8s %8s %8s %9s %9s %9s %8s %6s %9s %9s %6s\n",
       "scene", "knob", "value", "cpu/sim", "wall/sim", "x_rt", "dyn", "build", "sole", "solve",
@@ -449,7 +466,9 @@ int main(int argc, char** argv) {
         << r.max_deformation << "," << r.e_a << "," << r.e_u << "," << r.e_p << ","
         << 1e6 * r.solve_time << "," << 1e6 * r.pass_time << "," << r.solve_time / r.pass_time
         << "," << r.horizon << "," << r.peak_walk << "," << r.peak_avg10 << "," << r.e_w << ","
-        << r.e_10 << "," << r.direct_fraction << "\n";
+        << r.e_10 << "," << r.direct_fraction << "," << r.refused_cone_fraction << ","
+        << r.refused_residual_fraction << "," << r.sweeps_after_refusal << ","
+        << r.local_solves_per_sweep << "\n";
     std::printf(
         "%-5s %-11s %-13s %8.3f %8.3f %6.1f %7.3f %8.3f %8.3f %8.3f %8.3f %8.2f %9.2e %9.2e "
         "%9.2e %8.1f %6.1f %9.2e %9.2e %6.2f %s\n",

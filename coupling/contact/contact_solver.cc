@@ -178,6 +178,7 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
   if (settings.sticking_direct && settings.warm_start &&
       solve_sticking(problem, settings, impulses, result))
     return result;
+  const DirectAttempt attempt = result.direct_attempt;
   if (settings.solver == ContactSolverType::gauss_seidel)
     result = solve_gauss_seidel(problem, settings, impulses);
   else {
@@ -185,6 +186,7 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
     for (const CompliantPatch& patch : problem.patches) // for patch_product()
       compute_patch_product(patch, impulses);
   }
+  result.direct_attempt = attempt;
   if (!impulses.head(3 * n).allFinite() || !std::isfinite(result.residual)) {
     result.status = SolverStatus::non_finite;
     impulses.head(3 * n).setZero();

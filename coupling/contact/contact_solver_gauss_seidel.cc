@@ -94,6 +94,7 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
       const LocalSolution local =
           solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old, search,
                               has_inverse_[k] ? &inverse : nullptr);
+      ++result.n_local_solves;
       Eigen::Vector3d p_new;
       if (local.n_solutions > 0) {
         p_new = local.impulse;

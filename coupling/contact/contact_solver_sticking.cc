@@ -227,8 +227,10 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     const CompliantPatch& patch = problem.patches[j];
     if (patch.n_contacts == 0)
       continue;
-    if (!update_active_factor(problem, static_cast<int>(j)))
+    if (!update_active_factor(problem, static_cast<int>(j))) {
+      result.direct_attempt = DirectAttempt::failed;
       return false;
+    }
     const int first = patch.first_contact, count = active_count_[j];
     const int size = 3 * patch.n_contacts;
     auto w = patch_velocity_.segment(3 * first, size); // C_:S p~_S (patch frame, node order)
@@ -264,8 +266,10 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * patch.lever_map;
     sticking_capacitance_.noalias() += patch.lever_map.transpose() * sticking_map_;
   }
-  if (Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(sticking_capacitance_) >= 0)
+  if (Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(sticking_capacitance_) >= 0) {
+    result.direct_attempt = DirectAttempt::failed;
     return false;
+  }
   auto s = sticking_capacitance_.triangularView<Eigen::Lower>();
   s.solveInPlace(sticking_y_);
   s.transpose().solveInPlace(sticking_y_); // z
@@ -303,8 +307,10 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     }
     rigid_work_.head(m).noalias() += patch.lever_map.transpose() * t;
   }
-  if (!sticking_full_.head(n3).allFinite())
+  if (!sticking_full_.head(n3).allFinite()) {
+    result.direct_attempt = DirectAttempt::failed;
     return false;
+  }
 
   // Patch products w = C_j (I (x) R)^T p (patch frame). Rows of A from the sticking
   // equations, C p~ = -(c~ + Lambda T G^T p); the other rows by dot products with their
@@ -353,6 +359,7 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       impulses.head(n3) = sticking_full_.head(n3);
       result = SolverResult{};
       result.direct = true;
+      result.direct_attempt = DirectAttempt::accepted;
       result.iterations = 0;
       result.residual = r;
       result.status = SolverStatus::converged;
@@ -375,6 +382,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   }
   impulses.head(n3) = sticking_full_.head(n3);
   start_ready_ = true;
+  result.direct_attempt =
+      n_outside > 0 ? DirectAttempt::refused_cone : DirectAttempt::refused_residual;
   return false;
 }
 

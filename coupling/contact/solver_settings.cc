@@ -45,6 +45,22 @@ const char* to_string(SolverStatus status) {
   return "unknown";
 }
 
+const char* to_string(DirectAttempt attempt) {
+  switch (attempt) {
+  case DirectAttempt::not_tried:
+    return "not_tried";
+  case DirectAttempt::accepted:
+    return "accepted";
+  case DirectAttempt::refused_cone:
+    return "refused_cone";
+  case DirectAttempt::refused_residual:
+    return "refused_residual";
+  case DirectAttempt::failed:
+    return "failed";
+  }
+  return "unknown";
+}
+
 const char* to_string(ContactSolverType type) {
   switch (type) {
   case ContactSolverType::gauss_seidel:

@@ -61,6 +61,16 @@ enum class SolverStatus {
   non_finite,     ///< NaN or Inf appeared; impulses are reset to zero
 };
 
+/// What became of the direct solve on the warm start's active set (SolverSettings::
+/// sticking_direct) in one solve.
+enum class DirectAttempt {
+  not_tried,        ///< off, no warm start, no patch structure, or no contact predicted sticking
+  accepted,         ///< its candidate is the solution (SolverResult::direct)
+  refused_cone,     ///< a contact predicted sticking left its cone: the iteration went on
+  refused_residual, ///< all in their cones, but the residual was above the tolerance
+  failed,           ///< C_AA or the capacitance not positive definite, or a non-finite candidate
+};
+
 struct SolverResult {
   SolverStatus status = SolverStatus::max_iterations;
   int iterations = 0;
@@ -76,11 +86,16 @@ struct SolverResult {
   double rho = 0.0;
   /// The solution came from the direct solve on the warm start's active set (iterations = 0).
   bool direct = false;
+  DirectAttempt direct_attempt = DirectAttempt::not_tried;
+  /// Gauss-Seidel: exact local solves done, summed over the sweeps (contacts left by the sweep
+  /// skip not counted).
+  int n_local_solves = 0;
   bool converged() const { return status == SolverStatus::converged; }
 };
 
 const char* to_string(SolverStatus status);
 const char* to_string(ContactSolverType type);
+const char* to_string(DirectAttempt attempt);
 
 /// Throws std::runtime_error with solver, status, iterations, residual and
 /// tolerance unless @p result converged. @p context names the caller (e.g. "step 120").

@@ -62,6 +62,7 @@ TEST(ContactSticking, DirectSolveGivesTheStickingSolution) {
                 "products %.2e, residual %.2e\n",
                 pc::to_string(type), r.direct, e_p, e_v, e_product, r.residual);
     EXPECT_TRUE(r.direct);
+    EXPECT_EQ(r.direct_attempt, pc::DirectAttempt::accepted);
     EXPECT_TRUE(r.converged());
     EXPECT_EQ(r.iterations, 0);
     EXPECT_LE(e_p, 1e-11);
@@ -117,6 +118,7 @@ TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
               r_one.direct, e_one, r_on.iterations, r_off.iterations, difference, slip_ratio,
               r_on.residual);
   EXPECT_FALSE(r_one.direct);
+  EXPECT_EQ(r_one.direct_attempt, pc::DirectAttempt::refused_cone);
   EXPECT_EQ(r_one.iterations, 1);
   EXPECT_LE(e_one, 1e-13);
   EXPECT_FALSE(r_on.direct);
@@ -161,32 +163,38 @@ TEST(ContactSticking, NotTriedWithoutStructureOrStickingWarmStart) {
     const pc::SolverResult r = solver.solve(problem, settings_for(type, direct, 1e-10), p);
     EXPECT_TRUE(r.converged());
     EXPECT_LE((p - fixture.solution).norm() / fixture.solution.norm(), 1e-7);
-    return r.direct;
+    EXPECT_EQ(r.direct, r.direct_attempt == pc::DirectAttempt::accepted);
+    return r.direct_attempt;
   };
+  using pc::DirectAttempt;
   const Eigen::VectorXd warm = inside_warm_start(fixture.solution);
-  EXPECT_TRUE(solve(fixture.problem, warm, true));
-  EXPECT_FALSE(solve(fixture.problem, warm, false));                        // switched off
-  EXPECT_FALSE(solve(fixture.problem, Eigen::VectorXd::Zero(3 * n), true)); // cold start
+  EXPECT_EQ(solve(fixture.problem, warm, true), DirectAttempt::accepted);
+  EXPECT_EQ(solve(fixture.problem, warm, false), DirectAttempt::not_tried); // switched off
+  EXPECT_EQ(solve(fixture.problem, Eigen::VectorXd::Zero(3 * n), true),
+            DirectAttempt::not_tried); // cold start
   Eigen::VectorXd lifted = warm;
   lifted.segment<3>(3 * 11).setZero(); // one contact predicted open
-  EXPECT_FALSE(solve(fixture.problem, lifted, true));
+  // Tried and refused: the others, carrying its share, leave their cones.
+  EXPECT_EQ(solve(fixture.problem, lifted, true), DirectAttempt::refused_cone);
   Eigen::VectorXd on_cone = warm; // one contact predicted sliding (on the cone)
   on_cone.segment<2>(3 * 4 + 1) =
       Eigen::Vector2d(fixture.problem.friction[4] * on_cone[3 * 4], 0.0);
-  EXPECT_FALSE(solve(fixture.problem, on_cone, true));
+  EXPECT_EQ(solve(fixture.problem, on_cone, true), DirectAttempt::refused_cone);
   pc::ContactProblem no_map = fixture.problem;
   no_map.patches[1].lever_map_valid = false; // the owner did not set T this step
-  EXPECT_FALSE(solve(no_map, warm, true));
+  EXPECT_EQ(solve(no_map, warm, true), DirectAttempt::not_tried);
   pc::ContactProblem no_structure = fixture.problem;
   no_structure.patches[0].sticking_version = 0; // set_sticking_structure not called
-  EXPECT_FALSE(solve(no_structure, warm, true));
+  EXPECT_EQ(solve(no_structure, warm, true), DirectAttempt::not_tried);
   // A semi-definite block (a node not held): the factor cannot be built, the solver iterates.
   pc::ContactProblem singular = fixture.problem;
   singular.patches[0].compliance_over_dt.row(0).setZero();
   singular.patches[0].compliance_over_dt.col(0).setZero();
   pc::set_sticking_structure(singular.patches[0], singular.patches[0].lever);
   Eigen::VectorXd p = warm;
-  EXPECT_FALSE(solver.solve(singular, settings_for(type, true, 1e-8), p).direct);
+  const pc::SolverResult r_singular = solver.solve(singular, settings_for(type, true, 1e-8), p);
+  EXPECT_FALSE(r_singular.direct);
+  EXPECT_EQ(r_singular.direct_attempt, DirectAttempt::failed);
 }
 
 TEST(ContactSticking, StiffSoleStaysWithinTolerance) {
@@ -329,6 +337,7 @@ TEST(ContactSticking, RefusesWhenASeparatedContactCloses) {
   std::printf("separated contact closing: direct %d, %d sweeps, |p - p*|/|p*| %.2e\n", r.direct,
               r.iterations, e_p);
   EXPECT_FALSE(r.direct);
+  EXPECT_EQ(r.direct_attempt, pc::DirectAttempt::refused_residual);
   EXPECT_TRUE(r.converged());
   EXPECT_LE(e_p, 1e-8);
 }

@@ -323,8 +323,10 @@ TEST(ContactUnit, GaussSeidelSweepSkipLeavesOnlyContactsWithinTheFraction) {
     if (skip > 0.0) {
       EXPECT_EQ((p.segment<3>(3) - start.segment<3>(3)).norm(), 0.0);
       EXPECT_NEAR(r.residual, 0.4 * tol, 0.01 * tol); // contact 1 left: converged, at 0.4 tol
+      EXPECT_EQ(r.n_local_solves, 1);                 // contact 0 only: 1, 2 and 3 within 0.5 tol
     } else {
       EXPECT_LE(error1, 1e-12);
+      EXPECT_EQ(r.n_local_solves, n); // every contact, once
     }
     EXPECT_TRUE(r.converged());
   }
@@ -357,6 +359,10 @@ TEST(ContactUnit, GaussSeidelSweepSkipLeavesOnlyContactsWithinTheFraction) {
       EXPECT_TRUE(r.converged());
       EXPECT_LE(dense, 1e-7 * (1 + 1e-6));
       EXPECT_LE(error, 1e-6);
+      if (skip == 0.0)
+        EXPECT_EQ(r.n_local_solves, r.iterations * nc);
+      else
+        EXPECT_LE(r.n_local_solves, r.iterations * nc);
     }
   }
   pc::SolverSettings bad;
