@@ -108,9 +108,9 @@ private:
   // Shared.
   Eigen::VectorXd velocity_;      // W p + v_free (3N)
   Eigen::VectorXd rigid_work_;    // m
-  Eigen::MatrixXd diag_blocks_;   // 3 x 3N, W_kk (set by solve_gauss_seidel)
-  Eigen::MatrixXd diag_inverses_; // 3 x 3N, W_kk^-1 where has_inverse_ (local_inverse)
-  Eigen::VectorXi has_inverse_;   // N
+  Eigen::MatrixXd diag_blocks_;   // 3 x 3N, W_kk (by solve_gauss_seidel, at first need)
+  Eigen::MatrixXd diag_inverses_; // 3 x 3N, W_kk^-1 where has_inverse_ is 1 (local_inverse)
+  Eigen::VectorXi has_inverse_;   // N: 1, 0 (singular), or -1 (W_kk not built in this call)
   Eigen::VectorXd eta_;           // N, 3 / trace(W_kk)
   Eigen::VectorXi patch_of_;      // N, patch index or -1
   double mean_diagonal_ = 1.0;

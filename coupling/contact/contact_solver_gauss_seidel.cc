@@ -6,7 +6,22 @@
 #include "coupling/contact/dense_kernels.h"
 #include "coupling/contact/impulse_change.h"
 
+#include <type_traits>
+
 namespace plantar::coupling {
+
+namespace {
+// W_kk and, when invertible, W_kk^-1 of contact k (outside the sweep's loop: a cold path).
+__attribute__((noinline)) void build_diagonal(const ContactProblem& problem, int k,
+                                              Eigen::MatrixXd& blocks, Eigen::MatrixXd& inverses,
+                                              Eigen::VectorXi& has_inverse) {
+  blocks.middleCols<3>(3 * k) = problem.diagonal_block(k);
+  Eigen::Matrix3d inverse;
+  has_inverse[k] = local_inverse(blocks.middleCols<3>(3 * k), inverse) ? 1 : 0;
+  if (has_inverse[k])
+    inverses.middleCols<3>(3 * k) = inverse;
+}
+} // namespace
 
 void ContactSolver::start_iteration(const ContactProblem& problem,
                                     const Eigen::Ref<const Eigen::VectorXd>& p) {
@@ -50,13 +65,17 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   SolverResult result;
   const LocalSearch search =
       settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
-  for (int k = 0; k < n; ++k) { // W_kk and W_kk^-1 (the sticking candidates of local solves)
-    diag_blocks_.middleCols<3>(3 * k) = problem.diagonal_block(k);
-    Eigen::Matrix3d inverse;
-    has_inverse_[k] = local_inverse(diag_blocks_.middleCols<3>(3 * k), inverse) ? 1 : 0;
-    if (has_inverse_[k])
-      diag_inverses_.middleCols<3>(3 * k) = inverse;
-  }
+  // W_kk and W_kk^-1 (the sticking candidates of local solves). From the direct solve's refused
+  // candidate with the sweep skip, most contacts are never solved: each is built at its first
+  // local solve (has_inverse_ -1 before; damped walk 29.6-30.4 -> 28.0-28.1 us per solve).
+  // Otherwise nearly all are solved in the first sweep: all are built first and loaded at the
+  // top of the sweep (building at first need cost 4 % there, 64.1-65.3 against 61.4-62.7 us).
+  const bool lazy = settings.sweep_skip > 0.0 && start_ready_;
+  if (lazy)
+    has_inverse_.head(n).setConstant(-1);
+  else
+    for (int k = 0; k < n; ++k)
+      build_diagonal(problem, k, diag_blocks_, diag_inverses_, has_inverse_);
   // y = G^T p and the patch velocities C_j (I (x) R_j)^T p (patch frames), kept current
   // through the sweeps; set by start_iteration() or by the direct solve's refused candidate.
   if (!start_ready_)
@@ -72,48 +91,65 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
     }
     result.n_nonunique_local = 0;
     result.n_failed_local = 0;
-    for (int k = 0; k < n; ++k) {
-      const Eigen::Matrix3d block = diag_blocks_.middleCols<3>(3 * k);
-      const Eigen::Matrix3d inverse = diag_inverses_.middleCols<3>(3 * k);
-      const Eigen::Vector3d p_old = p.segment<3>(3 * k);
-      const int j = patch_of_[k];
-      Eigen::Vector3d v_k = problem.free_velocity.segment<3>(3 * k);
-      if (j >= 0)
-        v_k.noalias() += problem.patches[j].rotation * patch_velocity_.segment<3>(3 * k);
-      for (int c = 0; c < m; ++c) { // G_k y
-        const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
-        const double y_c = rigid_work_[c];
-        v_k[0] += g_c[0] * y_c;
-        v_k[1] += g_c[1] * y_c;
-        v_k[2] += g_c[2] * y_c;
+    // One sweep; kLazy: W_kk built at first need, after the skip test.
+    auto sweep_contacts = [&](auto lazy) {
+      constexpr bool kLazy = decltype(lazy)::value;
+      for (int k = 0; k < n; ++k) {
+        Eigen::Matrix3d block, inverse;
+        if constexpr (!kLazy) {
+          block = diag_blocks_.middleCols<3>(3 * k);
+          inverse = diag_inverses_.middleCols<3>(3 * k);
+        }
+        const Eigen::Vector3d p_old = p.segment<3>(3 * k);
+        const int j = patch_of_[k];
+        Eigen::Vector3d v_k = problem.free_velocity.segment<3>(3 * k);
+        if (j >= 0)
+          v_k.noalias() += problem.patches[j].rotation * patch_velocity_.segment<3>(3 * k);
+        for (int c = 0; c < m; ++c) { // G_k y
+          const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
+          const double y_c = rigid_work_[c];
+          v_k[0] += g_c[0] * y_c;
+          v_k[1] += g_c[1] * y_c;
+          v_k[2] += g_c[2] * y_c;
+        }
+        if (skip > 0.0 && contact_residual(p_old, v_k, problem.normal_bias[k], problem.friction[k],
+                                           eta_[k]) <= skip)
+          continue; // close enough: left for this sweep
+        if constexpr (kLazy) {
+          if (has_inverse_[k] < 0)
+            build_diagonal(problem, k, diag_blocks_, diag_inverses_, has_inverse_);
+          block = diag_blocks_.middleCols<3>(3 * k);
+          inverse = diag_inverses_.middleCols<3>(3 * k);
+        }
+        const Eigen::Vector3d q = v_k - block * p_old;
+        const LocalSolution local =
+            solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old,
+                                search, has_inverse_[k] ? &inverse : nullptr);
+        ++result.n_local_solves;
+        Eigen::Vector3d p_new;
+        if (local.n_solutions > 0) {
+          p_new = local.impulse;
+          if (local.n_solutions > 1)
+            ++result.n_nonunique_local;
+        } else {
+          // No exact local solution (singular block): projected step.
+          ++result.n_failed_local;
+          p_new = project_onto_cone(
+              p_old - eta_[k] * de_saxce_velocity(v_k, problem.normal_bias[k], problem.friction[k]),
+              problem.friction[k]);
+        }
+        const Eigen::Vector3d delta = p_new - p_old;
+        if (delta.squaredNorm() == 0.0)
+          continue;
+        p.segment<3>(3 * k) = p_new;
+        add_impulse_change(problem, j >= 0 ? &problem.patches[j] : nullptr, k, delta,
+                           rigid_work_.data(), patch_velocity_.data());
       }
-      if (skip > 0.0 && contact_residual(p_old, v_k, problem.normal_bias[k], problem.friction[k],
-                                         eta_[k]) <= skip)
-        continue; // close enough: left for this sweep
-      const Eigen::Vector3d q = v_k - block * p_old;
-      const LocalSolution local =
-          solve_local_contact(block, q, problem.normal_bias[k], problem.friction[k], p_old, search,
-                              has_inverse_[k] ? &inverse : nullptr);
-      ++result.n_local_solves;
-      Eigen::Vector3d p_new;
-      if (local.n_solutions > 0) {
-        p_new = local.impulse;
-        if (local.n_solutions > 1)
-          ++result.n_nonunique_local;
-      } else {
-        // No exact local solution (singular block): projected step.
-        ++result.n_failed_local;
-        p_new = project_onto_cone(
-            p_old - eta_[k] * de_saxce_velocity(v_k, problem.normal_bias[k], problem.friction[k]),
-            problem.friction[k]);
-      }
-      const Eigen::Vector3d delta = p_new - p_old;
-      if (delta.squaredNorm() == 0.0)
-        continue;
-      p.segment<3>(3 * k) = p_new;
-      add_impulse_change(problem, j >= 0 ? &problem.patches[j] : nullptr, k, delta,
-                         rigid_work_.data(), patch_velocity_.data());
-    }
+    };
+    if (lazy)
+      sweep_contacts(std::true_type{});
+    else
+      sweep_contacts(std::false_type{});
     // Velocities of the current impulses (from the incremental state).
     velocity_.head(n3).noalias() = g * rigid_work_.head(m);
     velocity_.head(n3) += problem.free_velocity.head(n3);

@@ -127,6 +127,26 @@ TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
   EXPECT_LE(r_on.iterations, r_off.iterations);
   EXPECT_LE(difference, 1e-9);
   EXPECT_NEAR(slip_ratio, 1.0, 1e-9); // contact 7 slides: on the cone's boundary
+  // With the sweep skip, the iteration after the refusal builds W_kk only for the contacts it
+  // solves (the lazy path): the result is judged by a dense W p and against p_off.
+  pc::SolverSettings skipping = settings_for(type, true, 1e-9);
+  skipping.sweep_skip = 0.5;
+  Eigen::VectorXd p_skip = warm;
+  const pc::SolverResult r_skip = solver.solve(fixture.problem, skipping, p_skip);
+  Eigen::MatrixXd w;
+  fixture.problem.assemble_delassus(w);
+  const Eigen::VectorXd v_skip = w * p_skip + fixture.problem.free_velocity.head(3 * n);
+  const double dense = pc::ContactSolver::complementarity_residual(fixture.problem, p_skip, v_skip);
+  const double skip_difference = (p_skip - p_off).norm() / p_off.norm();
+  std::printf("refused, sweep skip 0.5: %d sweeps, %d local solves of %d, residual by dense W p "
+              "%.2e, |p - p_off|/|p| %.2e\n",
+              r_skip.iterations, r_skip.n_local_solves, r_skip.iterations * n, dense,
+              skip_difference);
+  EXPECT_EQ(r_skip.direct_attempt, pc::DirectAttempt::refused_cone);
+  EXPECT_TRUE(r_skip.converged());
+  EXPECT_LT(r_skip.n_local_solves, r_skip.iterations * n);
+  EXPECT_LE(dense, 1e-9 * (1 + 1e-6));
+  EXPECT_LE(skip_difference, 1e-6);
 }
 
 TEST(ContactSticking, HoldsASlidingContact) {
