@@ -25,7 +25,7 @@ inline double norm2(double a, double b) {
 inline Eigen::Vector3d project_onto_cone(const Eigen::Vector3d& x, double mu) {
   const double normal = x[0];
   const double tangent_norm = detail::norm2(x[1], x[2]);
-  if (tangent_norm <= mu * normal)
+  if (normal >= 0.0 && tangent_norm <= mu * normal) // normal >= 0: mu = 0, x_t = 0, x_n < 0
     return x;
   if (mu * tangent_norm <= -normal)
     return Eigen::Vector3d::Zero();

@@ -62,6 +62,21 @@ TEST(ContactUnit, ConeProjectionMatchesBruteForce) {
   EXPECT_LE(worst_opt, 1e-14);
 }
 
+TEST(ContactUnit, ConeProjectionOnTheFrictionlessRay) {
+  // mu = 0: K is the ray p_t = 0, p_n >= 0, so x = (x_n, 0, 0) with x_n < 0 projects to 0 (a
+  // separating frictionless contact with no sliding: x = p - eta v = (-eta v_n, 0, 0)).
+  EXPECT_EQ(pc::project_onto_cone(Eigen::Vector3d(-1.0, 0.0, 0.0), 0.0), Eigen::Vector3d::Zero());
+  EXPECT_EQ(pc::project_onto_cone(Eigen::Vector3d(2.0, 0.0, 0.0), 0.0),
+            Eigen::Vector3d(2.0, 0.0, 0.0));
+  EXPECT_EQ(pc::project_onto_cone(Eigen::Vector3d(1.0, 3.0, -4.0), 0.0),
+            Eigen::Vector3d(1.0, 0.0, 0.0));
+  EXPECT_EQ(pc::project_onto_cone(Eigen::Vector3d(-1.0, 3.0, -4.0), 0.0), Eigen::Vector3d::Zero());
+  // p = 0, v = (1, 0, 0) m/s separating, b = 0: the law holds, residual 0 (not |v| = 1).
+  EXPECT_EQ(
+      pc::contact_residual(Eigen::Vector3d::Zero(), Eigen::Vector3d(1.0, 0.0, 0.0), 0.0, 0.0, 0.5),
+      0.0);
+}
+
 TEST(ContactUnit, DualConeProjection) {
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
