@@ -28,6 +28,7 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   diag_inverses_.setZero(3, n3);
   has_inverse_.setZero(max_contacts);
   eta_.setZero(max_contacts);
+  contact_residual_.setZero(max_contacts);
   patch_of_.setConstant(max_contacts, -1);
   patch_velocity_.setZero(n3);
   projection_change_.setZero(n3);
@@ -88,15 +89,9 @@ void ContactSolver::prepare(const ContactProblem& problem) {
 
 double ContactSolver::residual(const ContactProblem& problem,
                                const Eigen::Ref<const Eigen::VectorXd>& p,
-                               const Eigen::Ref<const Eigen::VectorXd>& v) const {
-  double worst = 0.0;
-  for (int k = 0; k < problem.n_contacts; ++k) {
-    const double r = contact_residual(p.segment<3>(3 * k), v.segment<3>(3 * k),
-                                      problem.normal_bias[k], problem.friction[k], eta_[k]);
-    if (!(r <= worst))
-      worst = r; // propagates NaN
-  }
-  return worst;
+                               const Eigen::Ref<const Eigen::VectorXd>& v) {
+  return contact_residuals(problem.n_contacts, p.data(), v.data(), problem.normal_bias.data(),
+                           problem.friction.data(), eta_.data(), contact_residual_.data());
 }
 
 double ContactSolver::complementarity_residual(const ContactProblem& problem,

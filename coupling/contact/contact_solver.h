@@ -80,8 +80,9 @@ public:
 
 private:
   void prepare(const ContactProblem& problem);
+  // max_k of the natural-map residuals, each kept in contact_residual_ (dense_kernels.h).
   double residual(const ContactProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& p,
-                  const Eigen::Ref<const Eigen::VectorXd>& v) const;
+                  const Eigen::Ref<const Eigen::VectorXd>& v);
   void compute_velocity(const ContactProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& p);
   // patch_velocity_[patch rows] = C (I (x) R)^T p (one pass over the block).
   void compute_patch_product(const CompliantPatch& patch,
@@ -106,13 +107,14 @@ private:
   int max_contacts_ = 0;
   int rigid_rank_ = 0;
   // Shared.
-  Eigen::VectorXd velocity_;      // W p + v_free (3N)
-  Eigen::VectorXd rigid_work_;    // m
-  Eigen::MatrixXd diag_blocks_;   // 3 x 3N, W_kk (by solve_gauss_seidel, at first need)
-  Eigen::MatrixXd diag_inverses_; // 3 x 3N, W_kk^-1 where has_inverse_ is 1 (local_inverse)
-  Eigen::VectorXi has_inverse_;   // N: 1, 0 (singular), or -1 (W_kk not built in this call)
-  Eigen::VectorXd eta_;           // N, 3 / trace(W_kk)
-  Eigen::VectorXi patch_of_;      // N, patch index or -1
+  Eigen::VectorXd velocity_;         // W p + v_free (3N)
+  Eigen::VectorXd rigid_work_;       // m
+  Eigen::MatrixXd diag_blocks_;      // 3 x 3N, W_kk (by solve_gauss_seidel, at first need)
+  Eigen::MatrixXd diag_inverses_;    // 3 x 3N, W_kk^-1 where has_inverse_ is 1 (local_inverse)
+  Eigen::VectorXi has_inverse_;      // N: 1, 0 (singular), or -1 (W_kk not built in this call)
+  Eigen::VectorXd eta_;              // N, 3 / trace(W_kk)
+  Eigen::VectorXd contact_residual_; // N, each contact's residual of the last residual() call
+  Eigen::VectorXi patch_of_;         // N, patch index or -1
   double mean_diagonal_ = 1.0;
   // Gauss-Seidel.
   Eigen::VectorXd patch_velocity_;    // C_j/dt^2 (I (x) R_j)^T p per patch, patch frames (3N)

@@ -70,8 +70,10 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   // local solve (has_inverse_ -1 before; damped walk 29.6-30.4 -> 28.0-28.1 us per solve).
   // Otherwise nearly all are solved in the first sweep: all are built first and loaded at the
   // top of the sweep (building at first need cost 4 % there, 64.1-65.3 against 61.4-62.7 us).
-  const bool lazy = settings.sweep_skip > 0.0 && start_ready_;
-  if (lazy)
+  // The same start is also where sweeps are listed: a sweep solves only the contacts whose
+  // residual at the last check was above the skip, in order, with no residual at their turn.
+  const bool listed = settings.sweep_skip > 0.0 && start_ready_;
+  if (listed)
     has_inverse_.head(n).setConstant(-1);
   else
     for (int k = 0; k < n; ++k)
@@ -81,6 +83,21 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
   if (!start_ready_)
     start_iteration(problem, p);
   const double skip = settings.sweep_skip * settings.tolerance;
+  // Velocities and residuals of the current impulses (from the incremental state); the
+  // residual of each contact is kept in contact_residual_.
+  auto check = [&]() {
+    velocity_.head(n3).noalias() = g * rigid_work_.head(m);
+    velocity_.head(n3) += problem.free_velocity.head(n3);
+    add_patch_velocities(problem);
+    return residual(problem, p, velocity_);
+  };
+  if (listed) { // the start's residuals, for the first sweep's list
+    result.residual = check();
+    if (result.residual <= settings.tolerance) {
+      result.status = SolverStatus::converged;
+      return result;
+    }
+  }
   for (int sweep = 1; sweep <= settings.max_iterations; ++sweep) {
     // Every 50 sweeps, recompute y and the patch velocities from scratch to
     // limit the round-off drift of the incremental updates.
@@ -91,12 +108,17 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
     }
     result.n_nonunique_local = 0;
     result.n_failed_local = 0;
-    // One sweep; kLazy: W_kk built at first need, after the skip test.
-    auto sweep_contacts = [&](auto lazy) {
-      constexpr bool kLazy = decltype(lazy)::value;
+    // One sweep; kListed: only the contacts above the skip at the last check, W_kk built at
+    // first need.
+    auto sweep_contacts = [&](auto listed_sweep) {
+      constexpr bool kListed = decltype(listed_sweep)::value;
       for (int k = 0; k < n; ++k) {
+        if constexpr (kListed) {
+          if (contact_residual_[k] <= skip)
+            continue;
+        }
         Eigen::Matrix3d block, inverse;
-        if constexpr (!kLazy) {
+        if constexpr (!kListed) {
           block = diag_blocks_.middleCols<3>(3 * k);
           inverse = diag_inverses_.middleCols<3>(3 * k);
         }
@@ -112,10 +134,11 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
           v_k[1] += g_c[1] * y_c;
           v_k[2] += g_c[2] * y_c;
         }
-        if (skip > 0.0 && contact_residual(p_old, v_k, problem.normal_bias[k], problem.friction[k],
-                                           eta_[k]) <= skip)
+        if (!kListed && skip > 0.0 &&
+            contact_residual(p_old, v_k, problem.normal_bias[k], problem.friction[k], eta_[k]) <=
+                skip)
           continue; // close enough: left for this sweep
-        if constexpr (kLazy) {
+        if constexpr (kListed) {
           if (has_inverse_[k] < 0)
             build_diagonal(problem, k, diag_blocks_, diag_inverses_, has_inverse_);
           block = diag_blocks_.middleCols<3>(3 * k);
@@ -146,16 +169,12 @@ SolverResult ContactSolver::solve_gauss_seidel(const ContactProblem& problem,
                            rigid_work_.data(), patch_velocity_.data());
       }
     };
-    if (lazy)
+    if (listed)
       sweep_contacts(std::true_type{});
     else
       sweep_contacts(std::false_type{});
-    // Velocities of the current impulses (from the incremental state).
-    velocity_.head(n3).noalias() = g * rigid_work_.head(m);
-    velocity_.head(n3) += problem.free_velocity.head(n3);
-    add_patch_velocities(problem);
     result.iterations = sweep;
-    result.residual = residual(problem, p, velocity_);
+    result.residual = check();
     record(sweep, result.residual);
     if (!std::isfinite(result.residual)) {
       result.status = SolverStatus::non_finite;

@@ -258,9 +258,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       x.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
                             patch.lever.middleRows<3>(3 * node) * u_sliding;
     }
-    active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
-        .triangularView<Eigen::Lower>()
-        .solveInPlace(x);
+    solve_lower(&active_factor_(3 * first, 3 * first), active_factor_.outerStride(), 3 * count,
+                x.data());
     const Vector6 t = active_lever_solve_.middleRows(3 * first, 3 * count).transpose() * x;
     sticking_y_.noalias() += patch.lever_map.transpose() * t;
     sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * patch.lever_map;
@@ -290,10 +289,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     auto x = sticking_p_.segment(3 * first, 3 * count);
     const Vector6 u = patch.lever_map * sticking_y_;
     x.noalias() -= active_lever_solve_.middleRows(3 * first, 3 * count) * u;
-    active_factor_.block(3 * first, 3 * first, 3 * count, 3 * count)
-        .triangularView<Eigen::Lower>()
-        .transpose()
-        .solveInPlace(x);
+    solve_lower_transposed(&active_factor_(3 * first, 3 * first), active_factor_.outerStride(),
+                           3 * count, x.data());
     x = -x;
     Vector6 t = Vector6::Zero();
     for (int i = 0; i < count; ++i) {

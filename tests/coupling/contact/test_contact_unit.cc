@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <gtest/gtest.h>
+#include <limits>
 #include <random>
 
 namespace pc = plantar::coupling;
@@ -570,6 +571,84 @@ TEST(ContactUnit, ThreeColumnTriangularSolveMatchesEigen) {
               "1e-14)\n",
               worst);
   EXPECT_LE(worst, 1e-14);
+}
+
+TEST(ContactUnit, TriangularSolvesMatchEigen) {
+  // solve_lower (L x = b) and solve_lower_transposed (L^T x = b) against Eigen's triangular
+  // solves, every order 1..80 (all remainders of the four-column blocks), padded strides.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  double worst_lower = 0.0, worst_transposed = 0.0;
+  for (int n = 1; n <= 80; ++n) {
+    Eigen::MatrixXd a = Eigen::MatrixXd::NullaryExpr(n, n, [&] { return unit(rng); });
+    a = a * a.transpose() + n * Eigen::MatrixXd::Identity(n, n);
+    Eigen::MatrixXd l = Eigen::MatrixXd::Zero(n + 5, n);
+    l.topRows(n) = a.llt().matrixL();
+    const Eigen::VectorXd b = Eigen::VectorXd::NullaryExpr(n, [&] { return unit(rng); });
+    const Eigen::VectorXd lower = l.topRows(n).triangularView<Eigen::Lower>().solve(b);
+    const Eigen::VectorXd transposed =
+        l.topRows(n).triangularView<Eigen::Lower>().transpose().solve(b);
+    Eigen::VectorXd x = b;
+    pc::solve_lower(l.data(), l.rows(), n, x.data());
+    worst_lower =
+        std::max(worst_lower, (x - lower).cwiseAbs().maxCoeff() / lower.cwiseAbs().maxCoeff());
+    x = b;
+    pc::solve_lower_transposed(l.data(), l.rows(), n, x.data());
+    worst_transposed = std::max(worst_transposed, (x - transposed).cwiseAbs().maxCoeff() /
+                                                      transposed.cwiseAbs().maxCoeff());
+  }
+  std::printf("triangular solves vs Eigen: max relative difference L %.2e, L^T %.2e (tol "
+              "1e-14)\n",
+              worst_lower, worst_transposed);
+  EXPECT_LE(worst_lower, 1e-14);
+  EXPECT_LE(worst_transposed, 1e-14);
+}
+
+TEST(ContactUnit, ContactResidualsMatchOneByOne) {
+  // The branchless residual kernel against contact_residual, contact by contact: impulses in
+  // K, on its boundary and outside; velocities sticking, sliding and separating; mu = 0 and
+  // the frictionless ray (x_t = 0); then a NaN in first, middle and last place.
+  const int n = 203;
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Eigen::VectorXd p(3 * n), v(3 * n), bias(n), mu(n), eta(n), r(n);
+  for (int k = 0; k < n; ++k) {
+    mu[k] = k % 7 == 0 ? 0.0 : 0.05 + 2.0 * std::abs(unit(rng));
+    eta[k] = 0.1 + std::abs(unit(rng));
+    bias[k] = k % 3 == 0 ? 0.0 : 0.2 * unit(rng);
+    p.segment<3>(3 * k) = Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+    v.segment<3>(3 * k) = Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+    if (k % 5 == 1) // on the cone's boundary
+      p.segment<2>(3 * k + 1) *= mu[k] * std::abs(p[3 * k]) / p.segment<2>(3 * k + 1).norm();
+    if (k % 5 == 2) // sticking, zero velocity
+      v.segment<3>(3 * k).setZero();
+    if (k % 11 == 3) { // x = p - eta s = (x_n < 0, 0, 0): with mu = 0 (k = 14, 91, 168)
+      eta[k] = 0.5;    // the corner case of the frictionless ray
+      p.segment<3>(3 * k) = Eigen::Vector3d(0.3, 0.0, 0.0);
+      v.segment<3>(3 * k) = Eigen::Vector3d(1.0, 0.0, 0.0);
+    }
+  }
+  const double worst =
+      pc::contact_residuals(n, p.data(), v.data(), bias.data(), mu.data(), eta.data(), r.data());
+  double expected_worst = 0.0, max_difference = 0.0;
+  for (int k = 0; k < n; ++k) {
+    const double expected =
+        pc::contact_residual(p.segment<3>(3 * k), v.segment<3>(3 * k), bias[k], mu[k], eta[k]);
+    expected_worst = std::max(expected_worst, expected);
+    max_difference = std::max(max_difference, std::abs(r[k] - expected) / (1.0 + expected));
+  }
+  std::printf("residual kernel vs contact_residual: max difference %.2e (tol 1e-14), max %.6f "
+              "vs %.6f\n",
+              max_difference, worst, expected_worst);
+  EXPECT_LE(max_difference, 1e-14);
+  EXPECT_NEAR(worst, expected_worst, 1e-14 * (1.0 + expected_worst));
+  for (const int bad : {0, n / 2, n - 1}) {
+    Eigen::VectorXd v_bad = v;
+    v_bad[3 * bad + 1] = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_TRUE(std::isnan(pc::contact_residuals(n, p.data(), v_bad.data(), bias.data(), mu.data(),
+                                                 eta.data(), r.data())))
+        << "NaN at contact " << bad;
+  }
 }
 
 TEST(ContactUnit, NormalBiasHelper) {
