@@ -123,18 +123,24 @@ Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
   return block;
 }
 
-double ContactProblem::diagonal_trace(int contact) const {
-  double trace = 0.0;
+void ContactProblem::diagonal_traces(Eigen::Ref<Eigen::VectorXd> traces) const {
+  const int n = n_contacts;
+  if (traces.size() < n)
+    fail("diagonal_traces: output has size " + std::to_string(traces.size()) +
+         ", needs n_contacts = " + std::to_string(n));
+  double* t = traces.data();
+  for (int k = 0; k < n; ++k)
+    t[k] = 0.0;
+  // ||G_k||_F^2 by columns of G (contiguous rows), then the three rows of each contact summed.
   for (int c = 0; c < rigid_rank(); ++c) {
-    const double* g = rigid_factor.col(c).data() + 3 * contact;
-    trace += g[0] * g[0] + g[1] * g[1] + g[2] * g[2];
+    const double* g = rigid_factor.col(c).data();
+    for (int k = 0; k < n; ++k)
+      t[k] += g[3 * k] * g[3 * k] + g[3 * k + 1] * g[3 * k + 1] + g[3 * k + 2] * g[3 * k + 2];
   }
-  for (const CompliantPatch& patch : patches) {
-    const int local = contact - patch.first_contact;
-    if (local >= 0 && local < patch.n_contacts)
-      trace += patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local).trace();
-  }
-  return trace;
+  for (const CompliantPatch& patch : patches)
+    for (int local = 0; local < patch.n_contacts; ++local)
+      t[patch.first_contact + local] +=
+          patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local).trace();
 }
 
 void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,

@@ -117,8 +117,9 @@ struct ContactProblem {
 
   /// W_kk (3x3): diagonal block of contact k, G_k G_k^T + R C_kk R^T.
   Eigen::Matrix3d diagonal_block(int contact) const;
-  /// trace(W_kk) = ||G_k||_F^2 + trace(C_j,kk/dt^2) (the rotation drops out), (m/s)/(N s).
-  double diagonal_trace(int contact) const;
+  /// trace(W_kk) = ||G_k||_F^2 + trace(C_j,kk/dt^2) of every contact (the rotation drops
+  /// out), (m/s)/(N s), into @p traces (size >= n_contacts). One pass over G. Does not allocate.
+  void diagonal_traces(Eigen::Ref<Eigen::VectorXd> traces) const;
 
   /// out = W p for the leading 3 n_contacts rows, applying G G^T through its
   /// low rank: out = G (G^T p) + blockdiag((I (x) R_j) C_j/dt^2 (I (x) R_j)^T) p.

@@ -78,9 +78,11 @@ void ContactSolver::prepare(const ContactProblem& problem) {
     const CompliantPatch& patch = problem.patches[j];
     patch_of_.segment(patch.first_contact, patch.n_contacts).setConstant(static_cast<int>(j));
   }
+  // The blocks W_kk only for Gauss-Seidel (its local solves); here their traces.
+  problem.diagonal_traces(eta_);
   double trace_sum = 0.0;
-  for (int k = 0; k < n; ++k) { // the blocks W_kk only for Gauss-Seidel (its local solves)
-    const double trace = problem.diagonal_trace(k);
+  for (int k = 0; k < n; ++k) {
+    const double trace = eta_[k];
     eta_[k] = trace > 0.0 ? 3.0 / trace : 1.0;
     trace_sum += trace;
   }

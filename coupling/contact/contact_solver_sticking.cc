@@ -35,6 +35,28 @@ namespace plantar::coupling {
 namespace {
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 constexpr int kMaxUpdates = 60; // factor updates before a rebuild (round-off)
+
+// Lambda_i u: rows 3 i .. 3 i + 2 of lever (3n x 6, column-major) times u (6).
+inline Eigen::Vector3d lever_times(const Eigen::MatrixXd& lever, int node, const Vector6& u) {
+  const double* l = lever.data() + 3 * node;
+  const Eigen::Index ld = lever.outerStride();
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 6; ++c, l += ld) {
+    out[0] += l[0] * u[c];
+    out[1] += l[1] * u[c];
+    out[2] += l[2] * u[c];
+  }
+  return out;
+}
+
+// t += Lambda_i^T x (x: 3).
+inline void add_lever_transposed(const Eigen::MatrixXd& lever, int node, const Eigen::Vector3d& x,
+                                 Vector6& t) {
+  const double* l = lever.data() + 3 * node;
+  const Eigen::Index ld = lever.outerStride();
+  for (int c = 0; c < 6; ++c, l += ld)
+    t[c] += l[0] * x[0] + l[1] * x[1] + l[2] * x[2];
+}
 } // namespace
 
 void ContactSolver::remove_active_node(int first, int position) {
@@ -211,8 +233,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     for (int node = 0; node < patch.n_contacts; ++node) {
       const int k = patch.first_contact + node;
       if (sliding_[k]) {
-        t.noalias() += patch.lever.middleRows<3>(3 * node).transpose() *
-                       (patch.rotation.transpose() * impulses.segment<3>(3 * k));
+        add_lever_transposed(patch.lever, node,
+                             patch.rotation.transpose() * impulses.segment<3>(3 * k), t);
         any = true;
       }
     }
@@ -255,8 +277,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       Eigen::Vector3d c_k = problem.free_velocity.segment<3>(3 * k);
       c_k[0] += problem.normal_bias[k];
       c.segment<3>(3 * i).noalias() = patch.rotation.transpose() * c_k;
-      x.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
-                            patch.lever.middleRows<3>(3 * node) * u_sliding;
+      x.segment<3>(3 * i) =
+          c.segment<3>(3 * i) + w.segment<3>(3 * node) + lever_times(patch.lever, node, u_sliding);
     }
     solve_lower(&active_factor_(3 * first, 3 * first), active_factor_.outerStride(), 3 * count,
                 x.data());
@@ -295,7 +317,7 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     Vector6 t = Vector6::Zero();
     for (int i = 0; i < count; ++i) {
       const int node = active_order_[first + i];
-      t.noalias() += patch.lever.middleRows<3>(3 * node).transpose() * x.segment<3>(3 * i);
+      add_lever_transposed(patch.lever, node, x.segment<3>(3 * i), t);
       const Eigen::Vector3d p = patch.rotation * x.segment<3>(3 * i);
       const double mu = problem.friction[first + node];
       if (!(p[0] >= 0.0) || !(p[1] * p[1] + p[2] * p[2] <= mu * mu * p[0] * p[0]))
@@ -335,8 +357,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
         const Vector6 v6 = patch.lever_map * rigid_work_.head(m);
         for (int i = 0; i < count; ++i) {
           const int node = active_order_[first + i];
-          w.segment<3>(3 * node).noalias() =
-              -(sticking_c_.segment<3>(3 * (first + i)) + patch.lever.middleRows<3>(3 * node) * v6);
+          w.segment<3>(3 * node) =
+              -(sticking_c_.segment<3>(3 * (first + i)) + lever_times(patch.lever, node, v6));
         }
       }
       for (int node = 0; node < patch.n_contacts; ++node) {

@@ -404,15 +404,24 @@ TEST(ContactUnit, LowRankApplicationMatchesDenseProduct) {
   problem.apply_delassus(p, work, out);
   const double err_apply = (out - dense * p).norm() / (dense * p).norm();
   const double err_assemble = (w - dense).norm() / dense.norm();
-  double err_block = 0.0;
-  for (int k = 0; k < 20; ++k)
+  double err_block = 0.0, err_trace = 0.0;
+  Eigen::VectorXd traces(20);
+  problem.diagonal_traces(traces);
+  for (int k = 0; k < 20; ++k) {
     err_block =
         std::max(err_block, (problem.diagonal_block(k) - dense.block<3, 3>(3 * k, 3 * k)).norm());
-  std::printf("W p low-rank vs dense: %.2e, assemble %.2e, diagonal blocks %.2e (tol 1e-14)\n",
-              err_apply, err_assemble, err_block);
+    const double trace = dense.block<3, 3>(3 * k, 3 * k).trace();
+    err_trace = std::max(err_trace, std::abs(traces[k] - trace) / trace);
+  }
+  std::printf("W p low-rank vs dense: %.2e, assemble %.2e, diagonal blocks %.2e, traces %.2e "
+              "(tol 1e-14)\n",
+              err_apply, err_assemble, err_block, err_trace);
   EXPECT_LE(err_apply, 1e-14);
   EXPECT_LE(err_assemble, 1e-15);
   EXPECT_LE(err_block, 1e-13);
+  EXPECT_LE(err_trace, 1e-14);
+  Eigen::VectorXd short_output(19);
+  EXPECT_THROW(problem.diagonal_traces(short_output), std::invalid_argument);
 }
 
 TEST(ContactUnit, RotatedPatchEqualsPreRotatedBlock) {
