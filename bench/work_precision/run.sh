@@ -30,3 +30,6 @@ $pin "$bench" "$here/drop_fast.prm" "$here/walk_fast.prm" --out "$out/targets_fa
 # The damped-sole walk (Kelvin-Voigt beta = 1 ms, theta = 1/2): fast setting and reference.
 $pin "$bench" "$here/walk_damped_fast.prm" "$here/walk_damped_reference.prm" \
   --out "$out/targets_damped" --base-only --repeat 2 | tee "$out/targets_damped.txt"
+# The elastic sole at theta = 0.6, dt 1 ms (fragile in dt and theta; see the scene file).
+$pin "$bench" "$here/walk_elastic_fast.prm" --out "$out/targets_elastic" --base-only --repeat 2 |
+  tee "$out/targets_elastic.txt"
