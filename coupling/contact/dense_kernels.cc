@@ -134,10 +134,7 @@ PLANTAR_KERNEL_CLONES void solve_lower_transposed(const double* l, Eigen::Index 
     b[j + 3] = x3;
   }
 }
-
-} // namespace plantar::coupling
-
-namespace plantar::coupling {
+#undef PLANTAR_LOAD_LANES
 
 // The cases of project_onto_cone as selects, not branches (the case changes from contact to
 // contact); the file is built with -fno-math-errno -fno-trapping-math, so they vectorise.
