@@ -1,8 +1,10 @@
 // Cross-check against an independent library, orocos KDL (Debian liborocos-kdl-dev and
-// libkdl-parser-dev, test only): at random configurations of the fixed-base HRP-2-like model,
+// libkdl-parser-dev, test only): at random configurations of the fixed-base humanoids (the
+// HRP-2-like model and kestrel, whose legs are pitch-roll-yaw with offset axes),
 //  * each limb chain's joint-space inertia, gravity and Coriolis torques equal KDL's
-//    ChainDynParam (legs from the waist; arms and head from the chest, with gravity rotated
-//    into the chest frame), and
+//    ChainDynParam (legs from the waist/pelvis; arms and head from the chest, with gravity
+//    rotated into the chest frame; a chain must be a whole subtree: ChainDynParam ignores
+//    side branches, so the torso joints are checked by the tree), and
 //  * inverse dynamics of the whole tree equals KDL's TreeIdSolver_RNE,
 // to 1e-9 relative (to the largest entry of the compared quantity).
 #include "multibody/crba.h"
@@ -20,6 +22,9 @@
 
 #include <cstdio>
 #include <map>
+#include <ostream>
+#include <string>
+#include <vector>
 
 namespace plantar::multibody {
 namespace {
@@ -27,7 +32,7 @@ namespace {
 constexpr double kTolerance = 1e-9;
 
 struct Fixture {
-  explicit Fixture(const std::string& relative = "hrp2/hrp2.urdf") {
+  explicit Fixture(const std::string& relative) {
     ModelOptions options;
     options.floating_base = false;
     const std::string path = test::model_path(relative);
@@ -44,20 +49,28 @@ double relative_error(const Eigen::MatrixXd& ours, const Eigen::MatrixXd& theirs
   return (ours - theirs).cwiseAbs().maxCoeff() / std::max(theirs.cwiseAbs().maxCoeff(), 1e-300);
 }
 
-TEST(KdlComparison, LimbChainsMatchChainDynParam) {
-  Fixture fx;
+struct Chain {
+  const char* root;
+  const char* tip;
+};
+
+struct Robot {
+  const char* urdf; ///< relative to models/
+  std::vector<Chain> chains;
+};
+
+void PrintTo(const Robot& robot, std::ostream* os) {
+  *os << robot.urdf;
+}
+
+class KdlChains : public ::testing::TestWithParam<Robot> {};
+
+TEST_P(KdlChains, LimbChainsMatchChainDynParam) {
+  Fixture fx(GetParam().urdf);
   const Model& model = fx.model;
   Data data(model);
   std::mt19937 rng(2024);
-  const struct {
-    const char* root;
-    const char* tip;
-  } chains[] = {{"BODY", "RLEG_LINK5"},
-                {"BODY", "LLEG_LINK5"},
-                {"CHEST_LINK1", "RARM_LINK6"},
-                {"CHEST_LINK1", "LARM_LINK6"},
-                {"CHEST_LINK1", "HEAD_LINK1"}};
-  for (const auto& c : chains) {
+  for (const Chain& c : GetParam().chains) {
     KDL::Chain chain;
     ASSERT_TRUE(fx.tree.getChain(c.root, c.tip, chain)) << c.root << " -> " << c.tip;
     std::vector<int> dofs; // our velocity index of each chain joint
@@ -114,19 +127,37 @@ TEST(KdlComparison, LimbChainsMatchChainDynParam) {
                     c.root, c.tip, n, m(0, 0), kdl_m(0, 0), g[0], kdl_g(0), cv[0], kdl_c(0));
       }
     }
-    std::printf("%s -> %s: max relative error over 10 configurations: M %.2e, G %.2e, C v %.2e "
-                "(tol %.0e)\n",
-                c.root, c.tip, err_m, err_g, err_c, kTolerance);
+    std::printf("%s, %s -> %s: max relative error over 10 configurations: M %.2e, G %.2e, "
+                "C v %.2e (tol %.0e)\n",
+                GetParam().urdf, c.root, c.tip, err_m, err_g, err_c, kTolerance);
     EXPECT_LT(err_m, kTolerance);
     EXPECT_LT(err_g, kTolerance);
     EXPECT_LT(err_c, kTolerance);
   }
 }
 
+INSTANTIATE_TEST_SUITE_P(Humanoids, KdlChains,
+                         ::testing::Values(Robot{"hrp2/hrp2.urdf",
+                                                 {{"BODY", "RLEG_LINK5"},
+                                                  {"BODY", "LLEG_LINK5"},
+                                                  {"CHEST_LINK1", "RARM_LINK6"},
+                                                  {"CHEST_LINK1", "LARM_LINK6"},
+                                                  {"CHEST_LINK1", "HEAD_LINK1"}}},
+                                           Robot{"kestrel/kestrel.urdf",
+                                                 {{"pelvis", "r_foot"},
+                                                  {"pelvis", "l_foot"},
+                                                  {"chest", "r_hand"},
+                                                  {"chest", "l_hand"},
+                                                  {"chest", "head"}}}),
+                         [](const ::testing::TestParamInfo<Robot>& info) {
+                           const std::string urdf = info.param.urdf;
+                           return urdf.substr(0, urdf.find('/'));
+                         });
+
 class KdlTree : public ::testing::TestWithParam<const char*> {};
 
-// The HRP-2-like tree, and the branched test robot (rotated joint origins and inertias, a
-// prismatic joint, a continuous joint with a slanted axis, fixed joints with masses).
+// The HRP-2-like tree, kestrel's, and the branched test robot (rotated joint origins and inertias,
+// a prismatic joint, a continuous joint with a slanted axis, fixed joints with masses).
 TEST_P(KdlTree, WholeTreeInverseDynamicsMatchesTreeIdSolverRne) {
   Fixture fx(GetParam());
   const Model& model = fx.model;
@@ -174,7 +205,8 @@ TEST_P(KdlTree, WholeTreeInverseDynamicsMatchesTreeIdSolverRne) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, KdlTree,
-                         ::testing::Values("hrp2/hrp2.urdf", "test/branched_robot.urdf"));
+                         ::testing::Values("hrp2/hrp2.urdf", "kestrel/kestrel.urdf",
+                                           "test/branched_robot.urdf"));
 
 } // namespace
 } // namespace plantar::multibody
