@@ -34,4 +34,26 @@ Eigen::Quaterniond exp3_quaternion(const Eigen::Vector3d& w) {
   return Eigen::Quaterniond(std::cos(half), s * w.x(), s * w.y(), s * w.z());
 }
 
+Eigen::Vector3d log3(const Eigen::Matrix3d& rotation) {
+  const Eigen::Quaterniond quat(rotation);
+  const Eigen::Vector3d v = quat.vec();
+  const double s = v.norm();
+  const double c = std::abs(quat.w());
+  const double sign = quat.w() < 0.0 ? -1.0 : 1.0;
+  // 2 atan2(s, c) / s with its Taylor series 2/c (1 - s^2 / (3 c^2)) for s << c (theta < 2e-4).
+  const double scale =
+      s < 1e-4 * c ? 2.0 / c * (1.0 - s * s / (3.0 * c * c)) : 2.0 * std::atan2(s, c) / s;
+  return sign * scale * v;
+}
+
+Eigen::Matrix3d log3_left_jacobian_inverse(const Eigen::Vector3d& w) {
+  const double t2 = w.squaredNorm();
+  const double t = std::sqrt(t2);
+  // 1/t^2 - cot(t/2)/(2 t), Taylor series below t = 1e-2 (truncation error below 1e-18).
+  const double b = t < 1e-2 ? 1.0 / 12.0 + t2 / 720.0 + t2 * t2 / 30240.0
+                            : 1.0 / t2 - std::cos(0.5 * t) / (2.0 * t * std::sin(0.5 * t));
+  const Eigen::Matrix3d wx = skew(w);
+  return Eigen::Matrix3d::Identity() - 0.5 * wx + b * (wx * wx);
+}
+
 } // namespace plantar::multibody

@@ -166,4 +166,17 @@ SE3 exp6(const Vector6d& twist);
 /// Quaternion (x, y, z, w storage) of exp([w]x).
 Eigen::Quaterniond exp3_quaternion(const Eigen::Vector3d& w);
 
+/// SO(3) logarithm, the inverse of exp3: the rotation vector w = theta a (rad) with
+/// R = exp([w]x), theta in [0, pi]. Computed from the unit quaternion (w0, v) of R (Shepperd's
+/// method, accurate near 0 and near pi) as w = 2 atan2(|v|, |w0|) sign(w0) v / |v|; at theta = pi
+/// either of the two opposite vectors is returned. @param rotation orthonormal 3x3.
+Eigen::Vector3d log3(const Eigen::Matrix3d& rotation);
+
+/// Inverse of the left Jacobian of SO(3) at w = log3(R): if R(t) = exp([w(t)]x) moves with the
+/// angular velocity omega (world axes, dR/dt = [omega]x R), then dw/dt = J_l^-1(w) omega with
+///   J_l^-1(w) = 1 - [w]x / 2 + (1/theta^2 - cot(theta/2) / (2 theta)) [w]x^2,  theta = |w|,
+/// (the last coefficient by its Taylor series 1/12 + theta^2/720 + ... near 0; finite up to
+/// theta = pi, where it is 1/pi^2). J_l^-1(w) w = w.
+Eigen::Matrix3d log3_left_jacobian_inverse(const Eigen::Vector3d& w);
+
 } // namespace plantar::multibody
