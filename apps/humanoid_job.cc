@@ -108,8 +108,7 @@ int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
     std::filesystem::remove_all(dir / "failed", ignored);
     // The form's full parameter set.
     dealii::ParameterHandler prm;
-    Scene::declare(prm);
-    prm.parse_input(scene_file.string(), "", false, true);
+    read_scene_file(scene_file, prm);
     prm.enter_subsection("Robot");
     prm.set("Foot form", to_string(form));
     prm.set("Foot forms", "");

@@ -2,6 +2,8 @@
 
 #include "fem/sole_parameters.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -30,6 +32,65 @@ std::string footsteps_text(const std::vector<walking::Footstep>& steps) {
   for (std::size_t i = 0; i < steps.size(); ++i)
     out << (i ? "; " : "") << steps[i].x << ", " << steps[i].y << ", " << steps[i].yaw;
   return out.str();
+}
+
+/// Comma-separated finite numbers, between @p min_count and @p max_count of them.
+std::vector<double> parse_numbers(const std::string& text, const std::string& parameter,
+                                  std::size_t min_count, std::size_t max_count) {
+  std::vector<double> values;
+  for (const std::string& item : dealii::Utilities::split_string_list(text, ',')) {
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(value))
+      throw std::invalid_argument(parameter + " = '" + text + "': '" + item +
+                                  "' is not a finite number");
+    values.push_back(value);
+  }
+  if (values.size() < min_count || values.size() > max_count) {
+    std::ostringstream msg;
+    msg << parameter << " = '" << text << "': " << values.size() << " numbers, expected "
+        << min_count << (min_count == max_count ? "" : " or " + std::to_string(max_count));
+    throw std::invalid_argument(msg.str());
+  }
+  return values;
+}
+
+/// 'x, y, z' or 'x, y, z, roll, pitch, yaw' (m, rad; URDF rpy: R = Rz(yaw) Ry(pitch) Rx(roll)).
+multibody::SE3 parse_placement(const std::string& text, const std::string& parameter) {
+  const std::vector<double> v = parse_numbers(text, parameter, 3, 6);
+  if (v.size() != 3 && v.size() != 6)
+    throw std::invalid_argument(parameter + " = '" + text +
+                                "': expected 'x, y, z' or 'x, y, z, roll, pitch, yaw'");
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  if (v.size() == 6)
+    rotation = (Eigen::AngleAxisd(v[5], Eigen::Vector3d::UnitZ()) *
+                Eigen::AngleAxisd(v[4], Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(v[3], Eigen::Vector3d::UnitX()))
+                   .toRotationMatrix();
+  return multibody::SE3(rotation, Eigen::Vector3d(v[0], v[1], v[2]));
+}
+
+/// 'joint: degrees, joint: degrees, ...' -> (joint, radians); prismatic joints in metres.
+std::vector<std::pair<std::string, double>> parse_posture(const std::string& text,
+                                                          const std::string& parameter) {
+  std::vector<std::pair<std::string, double>> posture;
+  for (const std::string& item : dealii::Utilities::split_string_list(text, ',')) {
+    const auto colon = item.find(':');
+    const std::vector<double> value = colon == std::string::npos
+                                          ? std::vector<double>{}
+                                          : parse_numbers(item.substr(colon + 1), parameter, 1, 1);
+    std::string name = colon == std::string::npos ? "" : item.substr(0, colon);
+    name.erase(name.find_last_not_of(" \t") + 1);
+    if (name.empty())
+      throw std::invalid_argument(parameter + ": '" + item + "' is not 'joint: angle'");
+    posture.emplace_back(name, value[0] * (M_PI / 180.0));
+  }
+  return posture;
 }
 
 walking::Footstep parse_one(const std::string& text, const std::string& parameter) {
@@ -88,8 +149,9 @@ std::vector<walking::Footstep> parse_footsteps(const std::string& text,
 }
 
 void RobotParameters::declare(dealii::ParameterHandler& prm) {
-  prm.declare_entry("URDF file", "models/hrp2/hrp2.urdf", Anything(),
-                    "Robot model; relative paths: scene directory, then the Plantar tree.");
+  prm.declare_entry("URDF file", "", Anything(),
+                    "Robot model; relative paths: scene directory, then the Plantar tree. "
+                    "Humanoid scenes must set it (e.g. by 'include models/hrp2/robot.prm').");
   prm.declare_entry("Foot form", "rigid", Selection("rigid|compliant ankle|fem sole"),
                     "rigid: 8 contact points on each sole outline (Sole/Length x Sole/Width); "
                     "compliant ankle: the same points plus a passive 3-DoF spring-damper "
@@ -115,14 +177,48 @@ void RobotParameters::declare(dealii::ParameterHandler& prm) {
                     "spring deflection tau/k that the reference's own ground wrench causes "
                     "(feed-forward as in HRP-2's controller; multibody/walking/"
                     "ankle_compensation.h).");
-  prm.declare_entry("CoM height", "0.814", Double(0.5, 0.9),
-                    "CoM height of the standing and walking posture (m); sets the waist height.");
+  prm.declare_entry("CoM height", "0.814", Double(0.1, 3.0),
+                    "CoM height of the standing and walking posture above the sole frames (m); "
+                    "sets the waist height.");
+  prm.declare_entry("Base link", "", Anything(),
+                    "The URDF's root link, the free-floating base (the waist: the waist figures "
+                    "and the lean's roll are its pose). Humanoid scenes must set it.");
+  prm.declare_entry("Right foot link", "", Anything(),
+                    "The link under which the right sole is fixed; the actuated 1-DoF joints "
+                    "from Base link down to it are the right leg (6 needed).");
+  prm.declare_entry("Left foot link", "", Anything(), "Same for the left leg.");
+  prm.declare_entry("Right sole frame", "", Anything(),
+                    "A URDF link at the centre of the right sole's bottom face (z up, x "
+                    "forward); empty: Right sole placement on the foot link.");
+  prm.declare_entry("Left sole frame", "", Anything(), "Same for the left sole.");
+  prm.declare_entry("Right sole placement", "0, 0, 0", Anything(),
+                    "Used when Right sole frame is empty: the sole frame in the foot link frame, "
+                    "'x, y, z' (m) or 'x, y, z, roll, pitch, yaw' (m, rad; URDF rpy).");
+  prm.declare_entry("Left sole placement", "0, 0, 0", Anything(), "Same for the left sole.");
+  prm.declare_entry("Controlled joints", "", Anything(),
+                    "Comma-separated joints that the reference drives and the PD controller "
+                    "tracks (the columns of joints.csv, in this order); empty: every actuated "
+                    "joint of the URDF in model order. Must include both legs.");
+  prm.declare_entry("Posture", "", Anything(),
+                    "Standing posture, 'joint: angle, joint: angle, ...' in degrees (metres for "
+                    "prismatic joints); joints not named are at 0; the leg joints are set by the "
+                    "inverse kinematics (and are 0 in the drop scene).");
+  prm.declare_entry("Leg IK", "automatic", Selection("automatic|numerical"),
+                    "automatic: Kajita's closed form where a leg has HRP-2's structure "
+                    "(yaw-roll-pitch hip, pitch knee, pitch-roll ankle, no offsets but a lateral "
+                    "one at the knee), else the numerical SE(3) solver; numerical: always the "
+                    "numerical solver.");
+  prm.declare_entry("Ankle compliance centre", "0, 0, 0", Anything(),
+                    "compliant ankle: centre of the ankle spring in the foot link frame, 'x, y, "
+                    "z' (m).");
 }
 
 void RobotParameters::parse(dealii::ParameterHandler& prm,
                             const std::filesystem::path& scene_directory) {
-  urdf_file = fem::resolve_path(prm.get("URDF file"), scene_directory);
-  if (!std::filesystem::exists(urdf_file))
+  urdf_file = prm.get("URDF file").empty()
+                  ? std::filesystem::path()
+                  : fem::resolve_path(prm.get("URDF file"), scene_directory);
+  if (!urdf_file.empty() && !std::filesystem::exists(urdf_file))
     throw std::invalid_argument("Robot/URDF file = " + prm.get("URDF file") + ": no such file (" +
                                 urdf_file.string() + ")");
   const std::string form = prm.get("Foot form");
@@ -140,6 +236,19 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
   ankle_deflection_compensation = prm.get_bool("Ankle deflection compensation");
   ankle_angular_damping = prm.get_double("Ankle angular damping");
   com_height = prm.get_double("CoM height");
+  humanoid.base_link = prm.get("Base link");
+  humanoid.foot_links = {prm.get("Right foot link"), prm.get("Left foot link")};
+  humanoid.sole_frames = {prm.get("Right sole frame"), prm.get("Left sole frame")};
+  humanoid.sole_placements = {
+      parse_placement(prm.get("Right sole placement"), "Robot/Right sole placement"),
+      parse_placement(prm.get("Left sole placement"), "Robot/Left sole placement")};
+  humanoid.controlled_joints = dealii::Utilities::split_string_list(prm.get("Controlled joints"));
+  humanoid.posture = parse_posture(prm.get("Posture"), "Robot/Posture");
+  leg_ik = prm.get("Leg IK") == "numerical" ? walking::LegIkMethod::numerical
+                                            : walking::LegIkMethod::automatic;
+  const std::vector<double> centre =
+      parse_numbers(prm.get("Ankle compliance centre"), "Robot/Ankle compliance centre", 3, 3);
+  ankle_compliance_centre << centre[0], centre[1], centre[2];
   require(ankle_linear_stiffness > 0, "Robot/Ankle linear stiffness", ankle_linear_stiffness,
           "> 0");
   require(ankle_angular_stiffness > 0, "Robot/Ankle angular stiffness", ankle_angular_stiffness,

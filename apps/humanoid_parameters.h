@@ -5,6 +5,8 @@
 // 2008) and the public HRP-2 figures of shared/reference/hrp2.md.
 
 #include "multibody/walking/footstep_plan.h"
+#include "multibody/walking/humanoid.h"
+#include "multibody/walking/leg_solver.h"
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -24,7 +26,7 @@ const char* to_string(FootForm form);
 
 /// Subsection "Robot".
 struct RobotParameters {
-  std::filesystem::path urdf_file = "models/hrp2/hrp2.urdf"; ///< resolved like Sole paths
+  std::filesystem::path urdf_file; ///< resolved like Sole paths; humanoid scenes need one
   FootForm foot_form = FootForm::rigid;
   /// `plantar run`: run every form of this list (Foot form ignored) into DIR/<form>/; empty:
   /// Foot form only. `plantar sweep`: the forms of the sweep.
@@ -34,7 +36,12 @@ struct RobotParameters {
   double ankle_angular_stiffness = 600;       ///< N m/rad, > 0
   double ankle_angular_damping = 60;          ///< N m s/rad, >= 0
   bool ankle_deflection_compensation = false; ///< feed-forward of the static spring deflection
-  double com_height = 0.814; ///< m, (0.5, 0.9): CoM height of the standing/walking posture
+  double com_height = 0.814; ///< m, (0.1, 3): CoM height of the standing/walking posture
+  /// Base link, legs, soles, controlled joints, posture: the names of the scene.
+  walking::HumanoidDescription humanoid;
+  walking::LegIkMethod leg_ik = walking::LegIkMethod::automatic;
+  /// compliant ankle: spring centre in the foot link frame, m.
+  Eigen::Vector3d ankle_compliance_centre = Eigen::Vector3d::Zero();
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory);
 };

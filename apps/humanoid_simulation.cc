@@ -11,7 +11,6 @@
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
 #include "multibody/walking/ankle_compensation.h"
-#include "multibody/walking/leg_geometry.h"
 #include "multibody/walking/walking_reference.h"
 
 #include <Eigen/Geometry>
@@ -30,18 +29,48 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-multibody::Model build_model(const Scene& scene) {
+/// The scene's robot; @p compliant: with the compliant ankles of Foot form = compliant ankle.
+multibody::Model build_model(const Scene& scene, bool compliant) {
+  const walking::HumanoidDescription& humanoid = scene.robot.humanoid;
+  if (scene.robot.urdf_file.empty())
+    throw std::invalid_argument("Robot/URDF file is not set: a humanoid scene needs a robot "
+                                "(e.g. 'include models/hrp2/robot.prm')");
+  if (humanoid.base_link.empty() || humanoid.foot_links[0].empty() ||
+      humanoid.foot_links[1].empty())
+    throw std::invalid_argument(
+        "Robot/Base link, Robot/Right foot link and Robot/Left foot link must name links of " +
+        scene.robot.urdf_file.string() + " in a humanoid scene (docs/user_guide.md)");
   multibody::ModelOptions options;
-  if (scene.robot.foot_form == FootForm::compliant_ankle) {
-    // The HRP-2 ankle-roll links (URDF layout of models/hrp2), compliance centre at the ankle.
+  if (compliant && scene.robot.foot_form == FootForm::compliant_ankle) {
     auto& ankle = options.compliant_ankle;
-    ankle.foot_links = {"RLEG_LINK5", "LLEG_LINK5"};
+    ankle.foot_links = {humanoid.foot_links[0], humanoid.foot_links[1]};
+    ankle.center_in_foot = scene.robot.ankle_compliance_centre;
     ankle.linear_stiffness = scene.robot.ankle_linear_stiffness;
     ankle.linear_damping = scene.robot.ankle_linear_damping;
     ankle.angular_stiffness = scene.robot.ankle_angular_stiffness;
     ankle.angular_damping = scene.robot.ankle_angular_damping;
   }
-  return multibody::build_model_from_urdf(scene.robot.urdf_file.string(), options);
+  multibody::Model model =
+      multibody::build_model_from_urdf(scene.robot.urdf_file.string(), options);
+  try {
+    walking::add_sole_frames(model, humanoid);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("Robot: ") + e.what());
+  }
+  if (!model.has_free_base() || model.body_names[1] != humanoid.base_link)
+    throw std::invalid_argument("Robot/Base link = '" + humanoid.base_link +
+                                "': must be the root link of " + scene.robot.urdf_file.string() +
+                                " ('" + (model.n_bodies > 1 ? model.body_names[1] : std::string()) +
+                                "')");
+  return model;
+}
+
+walking::Humanoid resolve_humanoid(const multibody::Model& model, const Scene& scene) {
+  try {
+    return walking::Humanoid(model, scene.robot.humanoid);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("Robot (" + scene.robot.urdf_file.string() + "): " + e.what());
+  }
 }
 
 double roll_of(const Eigen::Matrix3d& rotation) {
@@ -51,7 +80,9 @@ double roll_of(const Eigen::Matrix3d& rotation) {
 } // namespace
 
 HumanoidSimulation::HumanoidSimulation(const Scene& scene)
-    : scene_(scene), model_(build_model(scene)), data_(model_) {
+    : scene_(scene), model_(build_model(scene, true)), reference_model_(build_model(scene, false)),
+      humanoid_(resolve_humanoid(model_, scene)),
+      reference_humanoid_(resolve_humanoid(reference_model_, scene)), data_(model_) {
   const auto start = Clock::now();
   const std::string& type = scene_.type;
   if (type != "stand" && type != "drop" && type != "lean" && type != "walk")
@@ -61,42 +92,43 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   const double dt = sim.time_step;
   lift_ = scene_.robot.foot_form == FootForm::fem_sole ? scene_.sole.thickness : 0.0;
 
-  // Joint indices of the 30 robot joints.
-  const auto& names = walking::robot_joint_names();
-  for (int j = 0; j < walking::n_robot_joints; ++j) {
-    const int joint = model_.joint_id(names[j]);
-    joint_q_[j] = model_.idx_q[joint];
-    joint_v_[j] = model_.idx_v[joint];
+  // Configuration and velocity indices of the controlled joints.
+  const std::vector<std::string>& names = humanoid_.joint_names;
+  for (int joint : humanoid_.joints) {
+    joint_q_.push_back(model_.idx_q[joint]);
+    joint_v_.push_back(model_.idx_v[joint]);
   }
-  sole_frames_ = {model_.frame_id("r_sole"), model_.frame_id("l_sole")};
+  sole_frames_ = humanoid_.sole_frames;
+  angles_.setZero(humanoid_.n_joints());
 
-  // Reference.
-  const auto urdf = walking::load_urdf(scene_.robot.urdf_file.string());
-  walking::UpperBodyPosture posture;
+  // Reference (on the robot without compliant ankles).
+  walking::PostureParameters posture;
   posture.com_height = scene_.robot.com_height;
+  posture.leg_ik = scene_.robot.leg_ik;
   const auto& walk = scene_.walking.walk;
   double duration = sim.duration;
   if (type == "stand") {
     if (duration <= 0)
       duration = sim.settle_time + 5.0;
-    reference_ = walking::make_standing_reference(*urdf, duration, walk.initial_right,
-                                                  walk.initial_left, posture);
+    reference_ = walking::make_standing_reference(reference_model_, reference_humanoid_, duration,
+                                                  walk.initial_right, walk.initial_left, posture);
   } else if (type == "drop") {
     if (duration <= 0)
       duration = 1.0;
-    // Straight legs (all leg joints 0), the half-sitting upper body, waist upright above the
+    // Straight legs (all leg joints 0), the posture elsewhere, waist upright above the
     // origin at the height that puts the soles on z = 0.
-    walking::RobotAngles angles = posture.angles;
-    angles.head<12>().setZero();
+    Eigen::VectorXd angles = humanoid_.posture;
+    for (const auto& leg : humanoid_.leg_columns)
+      for (int column : leg)
+        angles[column] = 0.0;
     Eigen::VectorXd q0 = model_.neutral_configuration();
-    for (int j = 0; j < walking::n_robot_joints; ++j)
-      q0[joint_q_[j]] = angles[j];
+    humanoid_.to_configuration(model_, angles, q0);
     multibody::forward_kinematics(model_, data_, q0);
     const double sole_z =
         multibody::frame_placement(model_, data_, sole_frames_[0]).translation.z();
     Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
     base.translation() << 0, 0, -sole_z;
-    reference_.resize(2, duration);
+    reference_.resize(2, duration, names);
     reference_.set(0, base, angles, Eigen::Vector3d::Zero());
     reference_.set(1, base, angles, Eigen::Vector3d::Zero());
     lift_ += sim.release_height; // only the initial state: the base is not actuated
@@ -106,7 +138,8 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     lean.start_time = scene_.lean.start_time;
     lean.ramp_time = scene_.lean.ramp_time;
     lean.hold_time = scene_.lean.hold_time;
-    reference_ = walking::make_lean_reference(*urdf, lean, posture);
+    reference_ = walking::make_lean_reference(reference_model_, reference_humanoid_, lean,
+                                              walk.initial_right, walk.initial_left, posture);
   } else {
     walking::PreviewControlParameters preview;
     preview.period = walk.period;
@@ -114,15 +147,18 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     // The ZMP is on the ground, lift_ (the fem sole's thickness) below the sole frames.
     walking::WalkingParameters lifted = walk;
     lifted.ground_clearance = lift_;
-    const auto pattern = walking::make_walking_pattern(*urdf, lifted, preview, posture);
+    const auto pattern = walking::make_walking_pattern(reference_model_, reference_humanoid_,
+                                                       lifted, preview, posture);
     reference_ = pattern.reference;
   }
   Eigen::VectorXd final_deflection; // compensated compliant ankles: springs at the end
   if (scene_.robot.foot_form == FootForm::compliant_ankle &&
       scene_.robot.ankle_deflection_compensation) {
     const auto deflection =
-        walking::compensate_ankle_deflection(*urdf, scene_.robot.ankle_angular_stiffness,
-                                             scene_.robot.ankle_linear_stiffness, reference_)
+        walking::compensate_ankle_deflection(
+            reference_model_, reference_humanoid_, scene_.robot.ankle_compliance_centre,
+            scene_.robot.ankle_angular_stiffness, scene_.robot.ankle_linear_stiffness, reference_,
+            scene_.robot.leg_ik)
             .deflection;
     initial_deflection_ = deflection.row(0).transpose();
     final_deflection = deflection.bottomRows<1>().transpose();
@@ -241,7 +277,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   // Compensated compliant ankles start on their predicted deflection (feet on the ground).
   const auto set_springs = [&](const Eigen::VectorXd& deflection, Eigen::VectorXd& q) {
     for (int foot = 0; foot < 2 && deflection.size() == 6; ++foot) {
-      const std::string link = foot == 0 ? "RLEG_LINK5" : "LLEG_LINK5";
+      const std::string& link = scene_.robot.humanoid.foot_links[foot];
       const char* const dofs[3] = {"_compliance_z", "_compliance_pitch", "_compliance_roll"};
       for (int i = 0; i < 3; ++i)
         q[model_.idx_q[model_.joint_id(link + dofs[i])]] = deflection[3 * foot + i];
@@ -294,7 +330,7 @@ void HumanoidSimulation::reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_ou
     const Eigen::Quaterniond rotation(base.linear());
     q_out.segment<4>(3) << rotation.x(), rotation.y(), rotation.z(), rotation.w();
   }
-  for (int j = 0; j < walking::n_robot_joints; ++j)
+  for (int j = 0; j < humanoid_.n_joints(); ++j)
     q_out[joint_q_[j]] = angles_[j];
 }
 
@@ -376,7 +412,7 @@ void HumanoidSimulation::step() {
   const double dt = summary_.time_step;
   const double t_next = (step_ + 1) * dt;
   reference_at(t_next, q_ref_);
-  for (int j = 0; j < walking::n_robot_joints; ++j)
+  for (int j = 0; j < humanoid_.n_joints(); ++j)
     v_ref_[joint_v_[j]] = (q_ref_[joint_q_[j]] - q_ref_prev_[joint_q_[j]]) / dt;
   q_ref_prev_ = q_ref_;
 
@@ -500,7 +536,7 @@ void HumanoidSimulation::step() {
   auto jr = joints_.append();
   jr[0] = t;
   const auto& gains = stepper_->gains();
-  for (int j = 0; j < walking::n_robot_joints; ++j) {
+  for (int j = 0; j < humanoid_.n_joints(); ++j) {
     const int iq = joint_q_[j], iv = joint_v_[j];
     jr[1 + 3 * j] = q_[iq];
     jr[2 + 3 * j] = q_ref_[iq];

@@ -20,6 +20,7 @@
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/stepper.h"
+#include "multibody/walking/humanoid.h"
 #include "multibody/walking/joint_reference.h"
 
 #include <deal.II/grid/tria.h>
@@ -67,7 +68,8 @@ struct HumanoidSummary {
   double final_roll = 0;               ///< measured waist roll at the end, rad
   double commanded_roll = 0;           ///< commanded waist roll at the end, rad
   double max_roll_difference = 0;      ///< max |commanded - measured| roll, rad
-  Eigen::Vector3d final_right_sole = Eigen::Vector3d::Zero(); ///< r_sole origin (world) at end
+  Eigen::Vector3d final_right_sole =
+      Eigen::Vector3d::Zero(); ///< right sole frame origin (world) at end
   Eigen::Vector3d final_left_sole = Eigen::Vector3d::Zero();
   Eigen::Vector3d planned_right_sole = Eigen::Vector3d::Zero(); ///< planned (reference) at end
   Eigen::Vector3d planned_left_sole = Eigen::Vector3d::Zero();
@@ -124,7 +126,7 @@ public:
   int sole_patch(int foot) const {
     return sole_ || hyperelastic_[foot] ? feet_[foot].front().patch : -1;
   }
-  /// Model frame index of r_sole (foot 0) or l_sole (foot 1).
+  /// Model frame index of the right (foot 0) or left (foot 1) sole frame.
   int sole_frame(int foot) const { return sole_frames_[foot]; }
   /// Calls @p hook at the end of every step() whose count is a multiple of @p every (>= 1)
   /// and at the last step, after that step's failure checks. The hook may allocate.
@@ -153,6 +155,9 @@ private:
   Scene scene_;
   double lift_ = 0;
   multibody::Model model_;
+  multibody::Model reference_model_;     ///< the robot without compliant ankles (the reference's)
+  walking::Humanoid humanoid_;           ///< resolved on model_
+  walking::Humanoid reference_humanoid_; ///< resolved on reference_model_
   walking::JointReference reference_;
   std::unique_ptr<coupling::CondensedSole> sole_;
   std::array<std::unique_ptr<coupling::NonlinearCondensedSole>, 2> hyperelastic_; ///< or null
@@ -160,7 +165,7 @@ private:
   multibody::Data data_;
   std::array<std::vector<FootContact>, 2> feet_; ///< right, left
   std::array<int, 2> sole_frames_{};
-  std::array<int, walking::n_robot_joints> joint_q_{}, joint_v_{};
+  std::vector<int> joint_q_, joint_v_; ///< per controlled joint
   int n_steps_ = 0, step_ = 0;
   /// Compensated compliant ankles: spring deflection at t = 0 (u, theta_p, theta_r per foot).
   Eigen::VectorXd initial_deflection_;
@@ -170,7 +175,7 @@ private:
 
   // Workspaces.
   Eigen::VectorXd q_, v_, q_ref_, q_ref_prev_, v_ref_, tau_;
-  walking::RobotAngles angles_;
+  Eigen::VectorXd angles_; ///< controlled joints
   Eigen::Vector3d waist_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d settle_position_ = Eigen::Vector3d::Zero();
   Eigen::VectorXd sole_forces_, sole_offset_; // hyperelastic soles: 3 n_c

@@ -2,6 +2,8 @@
 
 #include "fem/exception_text.h"
 
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace plantar::app {
@@ -126,15 +128,63 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   prm.leave_subsection();
 }
 
-Scene load_scene(const std::filesystem::path& file, dealii::ParameterHandler& prm) {
+namespace {
+
+/// Parses @p file into @p prm; each top-level line 'include PATH' parses PATH there (resolved
+/// from @p file's directory, then the Plantar tree), recursively. Pieces between includes are
+/// padded with empty lines so that deal.II's messages give the file's own line numbers.
+void parse_with_includes(const std::filesystem::path& file, dealii::ParameterHandler& prm,
+                         int depth) {
+  if (depth > 8)
+    throw std::runtime_error("include " + file.string() + ": more than 8 levels (a cycle?)");
+  const std::filesystem::path directory = std::filesystem::absolute(file).parent_path();
+  std::ifstream in(file);
+  if (!in)
+    throw std::runtime_error("cannot read '" + file.string() + "'");
+  std::string piece;
+  int piece_start = 1, line_number = 0;
+  const auto parse_piece = [&] {
+    std::istringstream stream(std::string(piece_start - 1, '\n') + piece);
+    prm.parse_input(stream, file.string(), "", false);
+    piece.clear();
+  };
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line.compare(first, 8, "include ") != 0) {
+      piece += line + "\n";
+      continue;
+    }
+    std::string path = line.substr(first + 8);
+    path.erase(0, path.find_first_not_of(" \t"));
+    path.erase(path.find_last_not_of(" \t\r") + 1);
+    const std::filesystem::path resolved = fem::resolve_path(path, directory);
+    if (!std::filesystem::is_regular_file(resolved))
+      throw std::runtime_error("line " + std::to_string(line_number) + " of " + file.string() +
+                               ": include " + path + ": no such file (looked in '" +
+                               directory.string() + "' and the Plantar source tree)");
+    parse_piece();
+    parse_with_includes(resolved, prm, depth + 1);
+    piece_start = line_number + 1;
+  }
+  parse_piece();
+}
+
+} // namespace
+
+void read_scene_file(const std::filesystem::path& file, dealii::ParameterHandler& prm) {
   if (!std::filesystem::exists(file))
     throw std::runtime_error("scene '" + file.string() + "': no such file");
   Scene::declare(prm);
   try {
-    prm.parse_input(file.string(), "", false, true);
+    parse_with_includes(file, prm, 0);
   } catch (const std::exception& e) {
     throw std::runtime_error("scene '" + file.string() + "': " + fem::exception_text(e));
   }
+}
+
+Scene load_scene(const std::filesystem::path& file, dealii::ParameterHandler& prm) {
+  read_scene_file(file, prm);
   Scene scene;
   try {
     scene.parse(prm, std::filesystem::absolute(file).parent_path());

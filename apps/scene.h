@@ -53,7 +53,13 @@ struct Scene {
   void parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory);
 };
 
-/// Declares, reads @p file and parses it. Throws std::runtime_error with one
+/// Declares every entry in @p prm and reads @p file into it. A line 'include PATH' reads PATH
+/// there (resolved like the scene's other paths: the scene's directory, then the Plantar tree).
+/// Throws std::runtime_error naming the file (and, for syntax or pattern errors, the line, the
+/// parameter, its value and the allowed pattern).
+void read_scene_file(const std::filesystem::path& file, dealii::ParameterHandler& prm);
+
+/// Declares, reads @p file (read_scene_file) and parses it. Throws std::runtime_error with one
 /// clear message naming the file (and, for syntax or pattern errors, the line,
 /// the parameter, its value and the allowed pattern).
 Scene load_scene(const std::filesystem::path& file, dealii::ParameterHandler& prm);

@@ -5,13 +5,13 @@
 #include "fem/atomic_file.h"
 #include "fem/field_output.h"
 #include "multibody/kinematics.h"
-#include "multibody/walking/leg_geometry.h"
 
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
 #include <urdf_model/model.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <cstdio>
 #include <iomanip>
@@ -171,7 +171,9 @@ SceneVtkWriter::SceneVtkWriter(const HumanoidSimulation& simulation,
                                const std::filesystem::path& urdf_file, double stick_radius,
                                const std::filesystem::path& directory)
     : directory_(directory), data_(simulation.model()) {
-  const auto urdf = walking::load_urdf(urdf_file.string());
+  const auto urdf = urdf::parseURDFFile(urdf_file.string());
+  if (!urdf)
+    throw std::runtime_error("urdfdom could not parse '" + urdf_file.string() + "'");
   shapes_ = make_link_shapes(simulation.model(), *urdf, stick_radius);
   if (const coupling::CondensedSole* sole = simulation.sole()) {
     const auto n = static_cast<unsigned int>(sole->n_dofs());

@@ -39,8 +39,7 @@ std::string short_number(double value) {
 /// material, absolute model and mesh paths, and no Sweep or Foot forms entries.
 std::string point_scene(const fs::path& scene_file, const Scene& scene, const SweepPoint& point) {
   dealii::ParameterHandler prm;
-  Scene::declare(prm);
-  prm.parse_input(scene_file.string(), "", false, true);
+  read_scene_file(scene_file, prm);
   prm.enter_subsection("Robot");
   prm.set("Foot form", to_string(point.form));
   prm.set("Foot forms", "");
@@ -172,8 +171,7 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
   {
     std::ostringstream text;
     dealii::ParameterHandler prm;
-    Scene::declare(prm);
-    prm.parse_input(scene_file.string(), "", false, true);
+    read_scene_file(scene_file, prm);
     prm.print_parameters(text, dealii::ParameterHandler::PRM);
     fem::write_file_atomically(output / "parameters.prm",
                                [&](std::ostream& os) { os << text.str(); });

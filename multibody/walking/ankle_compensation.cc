@@ -1,7 +1,7 @@
 #include "multibody/walking/ankle_compensation.h"
 
-#include "multibody/walking/leg_ik.h"
-#include "multibody/walking/mass_model.h"
+#include "multibody/kinematics.h"
+#include "multibody/walking/leg_solver.h"
 
 #include <Eigen/Geometry>
 
@@ -16,14 +16,6 @@
 namespace plantar::walking {
 namespace {
 
-int body_index(const MassModel& model, const std::string& name) {
-  for (size_t i = 0; i < model.bodies.size(); ++i)
-    if (model.bodies[i].name == name)
-      return static_cast<int>(i);
-  throw std::runtime_error("compensate_ankle_deflection: link '" + name +
-                           "' not found in the URDF");
-}
-
 Eigen::Isometry3d base_pose(const JointReference& reference, int k) {
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   const auto& o = reference.base_orientation;
@@ -32,12 +24,21 @@ Eigen::Isometry3d base_pose(const JointReference& reference, int k) {
   return base;
 }
 
+Eigen::Isometry3d to_isometry(const multibody::SE3& pose) {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.linear() = pose.rotation;
+  result.translation() = pose.translation;
+  return result;
+}
+
 } // namespace
 
-AnkleCompensationReport compensate_ankle_deflection(const urdf::ModelInterface& urdf,
+AnkleCompensationReport compensate_ankle_deflection(const multibody::Model& model,
+                                                    const Humanoid& humanoid,
+                                                    const Eigen::Vector3d& compliance_centre,
                                                     double angular_stiffness,
                                                     double linear_stiffness,
-                                                    JointReference& reference) {
+                                                    JointReference& reference, LegIkMethod leg_ik) {
   if (!(angular_stiffness > 0.0) || !(linear_stiffness > 0.0)) {
     std::ostringstream msg;
     msg << "compensate_ankle_deflection: angular stiffness " << angular_stiffness
@@ -48,26 +49,33 @@ AnkleCompensationReport compensate_ankle_deflection(const urdf::ModelInterface& 
   if (n < 3)
     throw std::invalid_argument("compensate_ankle_deflection: the reference has " +
                                 std::to_string(n) + " samples, at least 3 are needed");
-  const MassModel model = make_mass_model(urdf);
-  MassModelData data(model);
-  const int nb = static_cast<int>(model.bodies.size());
-  const std::array<int, 2> sole = {body_index(model, "r_sole"), body_index(model, "l_sole")};
-  const std::array<int, 2> ankle = {body_index(model, "RLEG_LINK5"),
-                                    body_index(model, "LLEG_LINK5")};
-  const std::array<LegGeometry, 2> legs = {read_leg_geometry(urdf, LegSide::right),
-                                           read_leg_geometry(urdf, LegSide::left)};
+  if (!model.has_free_base() || humanoid.base_body != 1 ||
+      reference.q.cols() != humanoid.n_joints())
+    throw std::invalid_argument("compensate_ankle_deflection: the model needs a free base at "
+                                "the base link and the reference the humanoid's joints");
+  multibody::Data data(model);
+  const int nb = model.n_bodies;
+  std::array<LegSolver, 2> legs = {LegSolver(model, humanoid, LegSide::right, leg_ik),
+                                   LegSolver(model, humanoid, LegSide::left, leg_ik)};
+  const multibody::SE3 centre(Eigen::Matrix3d::Identity(), compliance_centre);
 
-  // Link CoM positions (3 x bodies per sample), sole and ankle poses, from the original q.
-  std::vector<Eigen::Matrix3Xd> points(n, Eigen::Matrix3Xd(3, nb));
+  // Body CoM positions (3 x bodies per sample), sole and ankle poses, from the original q.
+  std::vector<Eigen::Matrix3Xd> points(n, Eigen::Matrix3Xd::Zero(3, nb));
   std::vector<std::array<Eigen::Isometry3d, 2>> soles(n), ankles(n);
+  Eigen::VectorXd q = model.neutral_configuration();
   for (int k = 0; k < n; ++k) {
-    const RobotAngles q = reference.q.row(k).transpose();
-    centre_of_mass(model, data, base_pose(reference, k), q);
-    for (int i = 0; i < nb; ++i)
-      points[k].col(i) = data.poses[i] * model.bodies[i].com;
+    q.head<3>() = reference.base_position.row(k).transpose();
+    q.segment<4>(3) << reference.base_orientation(k, 1), reference.base_orientation(k, 2),
+        reference.base_orientation(k, 3), reference.base_orientation(k, 0);
+    humanoid.to_configuration(model, reference.q.row(k).transpose(), q);
+    multibody::forward_kinematics(model, data, q);
+    for (int i = 1; i < nb; ++i)
+      points[k].col(i) = data.oMi[i].act_point(model.inertia[i].com);
     for (int foot = 0; foot < 2; ++foot) {
-      soles[k][foot] = data.poses[sole[foot]];
-      ankles[k][foot] = data.poses[ankle[foot]];
+      soles[k][foot] =
+          to_isometry(multibody::frame_placement(model, data, humanoid.sole_frames[foot]));
+      ankles[k][foot] =
+          to_isometry(multibody::frame_placement(model, data, humanoid.foot_frames[foot]) * centre);
     }
   }
 
@@ -78,8 +86,8 @@ AnkleCompensationReport compensate_ankle_deflection(const urdf::ModelInterface& 
   for (int k = 0; k < n; ++k) {
     const int k0 = std::clamp(k, 1, n - 2); // one-sided at the ends (standing samples)
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero();
-    for (int i = 0; i < nb; ++i) {
-      const double m = model.bodies[i].mass;
+    for (int i = 1; i < nb; ++i) {
+      const double m = model.inertia[i].mass;
       if (m == 0.0)
         continue;
       const Eigen::Vector3d a =
@@ -93,7 +101,7 @@ AnkleCompensationReport compensate_ankle_deflection(const urdf::ModelInterface& 
               .transpose() /
           (T * T);
       report.max_force_mismatch = std::max(
-          report.max_force_mismatch, (force - model.total_mass * (com_acceleration - g)).norm());
+          report.max_force_mismatch, (force - model.total_mass() * (com_acceleration - g)).norm());
     }
     if (!(force.z() > 0.0)) {
       std::ostringstream msg;
@@ -150,14 +158,17 @@ AnkleCompensationReport compensate_ankle_deflection(const urdf::ModelInterface& 
       const Eigen::Isometry3d target =
           soles[k][foot] * ankle_to_sole.inverse() * spring.inverse() * ankle_to_sole;
       LegAngles leg_q;
+      for (int j = 0; j < 6; ++j)
+        leg_q[j] = reference.q(k, humanoid.leg_columns[foot][j]);
       try {
-        solve_leg_ik(legs[foot], base_pose(reference, k), target, leg_q);
+        legs[foot].solve(base_pose(reference, k), target, leg_q);
       } catch (const std::exception& e) {
         std::ostringstream msg;
         msg << "compensate_ankle_deflection: t = " << reference.time(k) << " s: " << e.what();
         throw std::runtime_error(msg.str());
       }
-      reference.q.row(k).segment<6>(6 * foot) = leg_q.transpose();
+      for (int j = 0; j < 6; ++j)
+        reference.q(k, humanoid.leg_columns[foot][j]) = leg_q[j];
     }
   }
   return report;

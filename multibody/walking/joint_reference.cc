@@ -7,10 +7,15 @@
 
 namespace plantar::walking {
 
-void JointReference::sample(double t, RobotAngles& q_out, Eigen::Isometry3d& base_out) const {
+void JointReference::sample(double t, Eigen::Ref<Eigen::VectorXd> q_out,
+                            Eigen::Isometry3d& base_out) const {
   const int n = n_samples();
   if (n == 0)
     throw std::runtime_error("JointReference::sample: empty reference");
+  if (q_out.size() != q.cols())
+    throw std::invalid_argument("JointReference::sample: q_out has " +
+                                std::to_string(q_out.size()) + " entries, the reference " +
+                                std::to_string(q.cols()) + " joints");
   t = std::clamp(t, 0.0, duration());
   const int k = std::min(static_cast<int>(std::floor(t / period)), n - 1);
   const int k1 = std::min(k + 1, n - 1);
@@ -35,18 +40,20 @@ void JointReference::sample(double t, RobotAngles& q_out, Eigen::Isometry3d& bas
                                .transpose();
 }
 
-void JointReference::resize(int n, double sample_period) {
+void JointReference::resize(int n, double sample_period, const std::vector<std::string>& names) {
+  joint_names = names;
   period = sample_period;
   time.resize(n);
   for (int k = 0; k < n; ++k)
     time(k) = k * period;
-  q.resize(n, n_robot_joints);
+  q.resize(n, static_cast<Eigen::Index>(names.size()));
   base_position.resize(n, 3);
   base_orientation.resize(n, 4);
   com.resize(n, 3);
 }
 
-void JointReference::set(int k, const Eigen::Isometry3d& base, const RobotAngles& angles,
+void JointReference::set(int k, const Eigen::Isometry3d& base,
+                         const Eigen::Ref<const Eigen::VectorXd>& angles,
                          const Eigen::Vector3d& centre_of_mass) {
   q.row(k) = angles.transpose();
   base_position.row(k) = base.translation().transpose();
@@ -60,7 +67,7 @@ void JointReference::write_csv(const std::string& path) const {
   if (!out)
     throw std::runtime_error("JointReference::write_csv: cannot open '" + path + "' for writing");
   out << "t,base_x,base_y,base_z,base_qw,base_qx,base_qy,base_qz,com_x,com_y,com_z";
-  for (const std::string& name : robot_joint_names())
+  for (const std::string& name : joint_names)
     out << "," << name;
   out << "\n";
   out.precision(17);
@@ -72,7 +79,7 @@ void JointReference::write_csv(const std::string& path) const {
       out << "," << base_orientation(k, i);
     for (int i = 0; i < 3; ++i)
       out << "," << com(k, i);
-    for (int j = 0; j < n_robot_joints; ++j)
+    for (Eigen::Index j = 0; j < q.cols(); ++j)
       out << "," << q(k, j);
     out << "\n";
   }

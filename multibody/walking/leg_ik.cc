@@ -14,8 +14,8 @@ using Eigen::Vector3d;
 [[noreturn]] void out_of_reach(const LegGeometry& leg, const std::string& what, double value,
                                double lower, double upper) {
   std::ostringstream msg;
-  msg << "solve_leg_ik: " << (leg.side == LegSide::right ? "right" : "left") << " leg: " << what
-      << " = " << value << " m is outside the reachable range [" << lower << ", " << upper << "]";
+  msg << "solve_leg_ik: " << to_string(leg.side) << " leg: " << what << " = " << value
+      << " m is outside the reachable range [" << lower << ", " << upper << "]";
   throw std::runtime_error(msg.str());
 }
 

@@ -1,5 +1,5 @@
-// Analytic inverse kinematics of a 6-DoF HRP-2 leg (Kajita's closed form, extended to a
-// lateral knee offset along the pitch axis).
+// Analytic inverse kinematics of a 6-DoF leg with HRP-2's structure (Kajita's closed form, extended
+// to a lateral knee offset along the pitch axis).
 #pragma once
 
 #include "multibody/walking/leg_geometry.h"
@@ -21,8 +21,8 @@ using LegAngles = Eigen::Matrix<double, 6, 1>;
 ///   ankle pitch q4 = atan2(beta, alpha) - atan2(L1 cos q3 + L2, -L1 sin q3),
 ///   hip: Rz(q0) Rx(q1) Ry(q2) = R_b^T R_a Rx(-q5) Ry(-q3 - q4).
 /// @param leg        geometry from read_leg_geometry.
-/// @param body       pose of BODY in the world [m].
-/// @param sole       pose of the sole frame (r_sole / l_sole) in the world [m].
+/// @param body       pose of the base in the world [m].
+/// @param sole       pose of the sole frame in the world [m].
 /// @param[out] q     the six angles [rad], each in (-pi, pi]; knee >= 0 (forward-bending knee).
 /// Branch: beta >= 0, i.e. the hip lies above the ankle along the z axis of the ankle-pitch link
 /// (true in any standing or walking posture); with d != 0 and a deeply bent knee a second

@@ -1,6 +1,9 @@
 #include "multibody/walking/walking_reference.h"
 
-#include "multibody/walking/leg_ik.h"
+#include "multibody/center_of_mass.h"
+#include "multibody/data.h"
+#include "multibody/kinematics.h"
+#include "multibody/walking/leg_solver.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,43 +23,62 @@ Eigen::Isometry3d sole_pose(const Eigen::Vector3d& position, double yaw) {
 /// Whole-body posture solver shared by the three references.
 class PostureSolver {
 public:
-  PostureSolver(const urdf::ModelInterface& model, const UpperBodyPosture& posture)
-      : mass_model_(make_mass_model(model)), mass_data_(mass_model_),
-        right_(read_leg_geometry(model, LegSide::right)),
-        left_(read_leg_geometry(model, LegSide::left)), posture_(posture) {
-    if (!(posture.com_height > 0.5 && posture.com_height < 0.9))
-      throw std::invalid_argument("UpperBodyPosture.com_height = " +
-                                  std::to_string(posture.com_height) + " m is outside (0.5, 0.9)");
+  PostureSolver(const multibody::Model& model, const Humanoid& humanoid,
+                const PostureParameters& posture)
+      : model_(model), humanoid_(humanoid), posture_(posture), data_(model),
+        q_model_(model.neutral_configuration()), legs_{LegSolver(model, humanoid, LegSide::right,
+                                                                 posture.leg_ik),
+                                                       LegSolver(model, humanoid, LegSide::left,
+                                                                 posture.leg_ik)} {
+    if (!model.has_free_base() || humanoid.base_body != 1)
+      throw std::invalid_argument("walking reference: the model needs a free-floating base at "
+                                  "the base link");
+    if (!(posture.com_height > 0.0))
+      throw std::invalid_argument("PostureParameters.com_height = " +
+                                  std::to_string(posture.com_height) + " m must be > 0");
     if (posture.max_com_iterations <= 0 || !(posture.com_tolerance > 0.0))
-      throw std::invalid_argument("UpperBodyPosture: max_com_iterations must be > 0 and "
+      throw std::invalid_argument("PostureParameters: max_com_iterations must be > 0 and "
                                   "com_tolerance > 0");
+    // Warm start of the numerical leg IK: the posture's leg angles.
+    for (int side = 0; side < 2; ++side)
+      for (int k = 0; k < 6; ++k)
+        leg_q_[side][k] = humanoid.posture[humanoid.leg_columns[side][k]];
   }
 
-  /// Leg IK for a base pose and two sole poses; fills q (legs) and returns the CoM.
+  /// Leg IK for a base pose and two sole poses; fills q (controlled joints) and returns the CoM.
   Eigen::Vector3d legs(const Eigen::Isometry3d& base, const Eigen::Isometry3d& right_sole,
-                       const Eigen::Isometry3d& left_sole, double time, RobotAngles& q) {
-    q = posture_.angles;
-    LegAngles leg_q;
+                       const Eigen::Isometry3d& left_sole, double time, Eigen::VectorXd& q) {
+    q = humanoid_.posture;
     try {
-      solve_leg_ik(right_, base, right_sole, leg_q);
-      check_limits(right_, leg_q, time);
-      q.segment<6>(right_leg_start) = leg_q;
-      solve_leg_ik(left_, base, left_sole, leg_q);
-      check_limits(left_, leg_q, time);
-      q.segment<6>(left_leg_start) = leg_q;
+      const Eigen::Isometry3d* soles[2] = {&right_sole, &left_sole};
+      for (int side = 0; side < 2; ++side) {
+        legs_[side].solve(base, *soles[side], leg_q_[side]);
+        for (int k = 0; k < 6; ++k)
+          q[humanoid_.leg_columns[side][k]] = leg_q_[side][k];
+      }
     } catch (const std::runtime_error& error) {
       std::ostringstream msg;
       msg << "joint reference at t = " << time << " s: " << error.what();
       throw std::runtime_error(msg.str());
     }
-    return centre_of_mass(mass_model_, mass_data_, base, q);
+    return centre_of_mass(base, q);
   }
 
-  /// Moves the base horizontally (and vertically if `fix_height` is false) until the CoM equals
+  /// Whole-body CoM (world) for the base pose and the controlled joints @p q.
+  Eigen::Vector3d centre_of_mass(const Eigen::Isometry3d& base, const Eigen::VectorXd& q) {
+    q_model_.head<3>() = base.translation();
+    const Eigen::Quaterniond rotation(base.linear());
+    q_model_.segment<4>(3) << rotation.x(), rotation.y(), rotation.z(), rotation.w();
+    humanoid_.to_configuration(model_, q, q_model_);
+    multibody::forward_kinematics(model_, data_, q_model_);
+    return multibody::center_of_mass(model_, data_);
+  }
+
+  /// Moves the base horizontally (and vertically if `solve_height`) until the CoM equals
   /// `com_target` in the components that are solved for.
   Eigen::Vector3d place_base(Eigen::Isometry3d& base, const Eigen::Vector3d& com_target,
                              bool solve_height, const Eigen::Isometry3d& right_sole,
-                             const Eigen::Isometry3d& left_sole, double time, RobotAngles& q) {
+                             const Eigen::Isometry3d& left_sole, double time, Eigen::VectorXd& q) {
     Eigen::Vector3d com;
     for (int iteration = 0; iteration < posture_.max_com_iterations; ++iteration) {
       com = legs(base, right_sole, left_sole, time, q);
@@ -75,13 +97,15 @@ public:
   }
 
   /// Standing base pose: base over the feet centre, height such that CoM z = com_height.
-  Eigen::Isometry3d standing_base(const Footstep& right, const Footstep& left, RobotAngles& q,
+  Eigen::Isometry3d standing_base(const Footstep& right, const Footstep& left, Eigen::VectorXd& q,
                                   Eigen::Vector3d& com) {
     Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
     const double yaw = right.yaw + 0.5 * std::remainder(left.yaw - right.yaw, 2.0 * M_PI);
     base.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    // First guess: the base as far above the CoM target as it is above the posture's CoM.
+    const double com_above_base = centre_of_mass(base, humanoid_.posture).z();
     base.translation() = Eigen::Vector3d(0.5 * (right.x + left.x), 0.5 * (right.y + left.y),
-                                         posture_.com_height - 0.16);
+                                         posture_.com_height - com_above_base);
     const Eigen::Vector3d target(base.translation().x(), base.translation().y(),
                                  posture_.com_height);
     com = place_base(base, target, true, sole_pose({right.x, right.y, 0.0}, right.yaw),
@@ -90,46 +114,27 @@ public:
   }
 
 private:
-  void check_limits(const LegGeometry& leg, const LegAngles& q, double time) const {
-    for (int i = 0; i < 6; ++i)
-      if (q(i) < leg.lower_limit(i) || q(i) > leg.upper_limit(i)) {
-        std::ostringstream msg;
-        msg << "joint reference: " << leg.joint_names[i] << " = " << q(i) << " rad at t = " << time
-            << " s is outside its limits [" << leg.lower_limit(i) << ", " << leg.upper_limit(i)
-            << "]";
-        throw std::runtime_error(msg.str());
-      }
-  }
-
-  MassModel mass_model_;
-  MassModelData mass_data_;
-  LegGeometry right_, left_;
-  UpperBodyPosture posture_;
+  const multibody::Model& model_;
+  const Humanoid& humanoid_;
+  PostureParameters posture_;
+  multibody::Data data_;
+  Eigen::VectorXd q_model_;
+  LegSolver legs_[2];
+  LegAngles leg_q_[2];
 };
 
 } // namespace
 
-RobotAngles half_sitting_upper_body() {
-  const double deg = M_PI / 180.0;
-  RobotAngles q = RobotAngles::Zero();
-  const double arm[7] = {15, -10, 0, -30, 0, 0, 10};
-  for (int i = 0; i < 7; ++i) {
-    q(right_arm_start + i) = arm[i] * deg;
-    q(left_arm_start + i) = (i == 1 ? -arm[i] : arm[i]) * deg;
-  }
-  return q;
-}
-
-WalkingPattern make_walking_pattern(const urdf::ModelInterface& model,
+WalkingPattern make_walking_pattern(const multibody::Model& model, const Humanoid& humanoid,
                                     const WalkingParameters& walk, PreviewControlParameters preview,
-                                    const UpperBodyPosture& posture) {
+                                    const PostureParameters& posture) {
   WalkingPattern pattern;
   pattern.plan = make_footstep_plan(walk);
   preview.period = walk.period;
   preview.com_height = posture.com_height + walk.ground_clearance;
   pattern.gains = compute_preview_gains(preview);
-  PostureSolver solver(model, posture);
-  RobotAngles q;
+  PostureSolver solver(model, humanoid, posture);
+  Eigen::VectorXd q;
   Eigen::Vector3d com0;
   const Eigen::Isometry3d base0 =
       solver.standing_base(walk.initial_right, walk.initial_left, q, com0);
@@ -147,7 +152,7 @@ WalkingPattern make_walking_pattern(const urdf::ModelInterface& model,
   pattern.cart_table_zmp.col(1) = zmp_component;
 
   JointReference& ref = pattern.reference;
-  ref.resize(n, walk.period);
+  ref.resize(n, walk.period, humanoid.joint_names);
   Eigen::Isometry3d base = base0;
   for (int k = 0; k < n; ++k) {
     const double time = plan.time(k);
@@ -164,27 +169,29 @@ WalkingPattern make_walking_pattern(const urdf::ModelInterface& model,
   return pattern;
 }
 
-JointReference make_standing_reference(const urdf::ModelInterface& model, double duration,
-                                       const Footstep& right_sole, const Footstep& left_sole,
-                                       const UpperBodyPosture& posture, double period) {
+JointReference make_standing_reference(const multibody::Model& model, const Humanoid& humanoid,
+                                       double duration, const Footstep& right_sole,
+                                       const Footstep& left_sole, const PostureParameters& posture,
+                                       double period) {
   if (!(duration >= 0.0) || !(period > 0.0 && period <= 0.1))
     throw std::invalid_argument("make_standing_reference: duration = " + std::to_string(duration) +
                                 " s must be >= 0 and period = " + std::to_string(period) +
                                 " s in (0, 0.1]");
-  PostureSolver solver(model, posture);
-  RobotAngles q;
+  PostureSolver solver(model, humanoid, posture);
+  Eigen::VectorXd q;
   Eigen::Vector3d com;
   const Eigen::Isometry3d base = solver.standing_base(right_sole, left_sole, q, com);
   const int n = static_cast<int>(std::floor(duration / period + 1e-9)) + 1;
   JointReference ref;
-  ref.resize(n, period);
+  ref.resize(n, period, humanoid.joint_names);
   for (int k = 0; k < n; ++k)
     ref.set(k, base, q, com);
   return ref;
 }
 
-JointReference make_lean_reference(const urdf::ModelInterface& model, const LeanParameters& lean,
-                                   const UpperBodyPosture& posture) {
+JointReference make_lean_reference(const multibody::Model& model, const Humanoid& humanoid,
+                                   const LeanParameters& lean, const Footstep& right,
+                                   const Footstep& left, const PostureParameters& posture) {
   if (!(std::abs(lean.final_angle) <= 0.35) || !(lean.start_time >= 0.0) ||
       !(lean.ramp_time > 0.0) || !(lean.hold_time >= 0.0) ||
       !(lean.period > 0.0 && lean.period <= 0.1)) {
@@ -195,17 +202,16 @@ JointReference make_lean_reference(const urdf::ModelInterface& model, const Lean
         << " s (>= 0), period = " << lean.period << " s ((0, 0.1])";
     throw std::invalid_argument(msg.str());
   }
-  PostureSolver solver(model, posture);
-  const Footstep right{0.0, -0.105, 0.0}, left{0.0, 0.105, 0.0};
-  RobotAngles q;
+  PostureSolver solver(model, humanoid, posture);
+  Eigen::VectorXd q;
   Eigen::Vector3d com;
   const Eigen::Isometry3d base0 = solver.standing_base(right, left, q, com);
   const double duration = lean.start_time + lean.ramp_time + lean.hold_time;
   const int n = static_cast<int>(std::floor(duration / lean.period + 1e-9)) + 1;
   JointReference ref;
-  ref.resize(n, lean.period);
-  const Eigen::Isometry3d right_pose = sole_pose({right.x, right.y, 0.0}, 0.0);
-  const Eigen::Isometry3d left_pose = sole_pose({left.x, left.y, 0.0}, 0.0);
+  ref.resize(n, lean.period, humanoid.joint_names);
+  const Eigen::Isometry3d right_pose = sole_pose({right.x, right.y, 0.0}, right.yaw);
+  const Eigen::Isometry3d left_pose = sole_pose({left.x, left.y, 0.0}, left.yaw);
   for (int k = 0; k < n; ++k) {
     const double time = k * lean.period;
     const double angle =

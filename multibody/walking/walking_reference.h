@@ -2,35 +2,28 @@
 // still, and the lean test of David et al. 2008.
 #pragma once
 
+#include "multibody/model.h"
 #include "multibody/walking/footstep_plan.h"
+#include "multibody/walking/humanoid.h"
 #include "multibody/walking/joint_reference.h"
-#include "multibody/walking/leg_geometry.h"
-#include "multibody/walking/mass_model.h"
+#include "multibody/walking/leg_solver.h"
 #include "multibody/walking/preview_control.h"
-#include "multibody/walking/robot_joints.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <urdf_model/model.h>
 
 namespace plantar::walking {
 
-/// HRP-2's half-sitting upper body (jrl-walkgen, estimate for this model): chest and head 0,
-/// arms (15, -+10, 0, -30, 0, 0, 10) deg (shoulder pitch, roll, yaw, elbow, wrist yaw, pitch,
-/// gripper), right arm roll negative (outwards).
-RobotAngles half_sitting_upper_body();
-
-/// Posture of everything but the legs, and the CoM height that sets the waist height.
-struct UpperBodyPosture {
-  /// Angles of chest, head and arms [rad] (entries 12..29 of q; the leg entries are ignored).
-  /// Default: half_sitting_upper_body().
-  RobotAngles angles = half_sitting_upper_body();
-  /// CoM height above the ground in the standing posture [m], (0.5, 0.9); it sets the constant
-  /// waist height (bent knees). Default 0.814 m (jrl-walkgen's HRP-2 value).
+/// The standing posture's numbers (the joint angles are the Humanoid's posture).
+struct PostureParameters {
+  /// CoM height above the sole frames in the standing posture [m], > 0; it sets the constant
+  /// waist height (bent knees). Default: jrl-walkgen's HRP-2 value.
   double com_height = 0.814;
   /// Fixed-point iterations placing the waist under a CoM target, and their tolerance [m].
   int max_com_iterations = 50;
   double com_tolerance = 1e-10;
+  /// How the legs are solved (closed form where it fits, or always numerical).
+  LegIkMethod leg_ik = LegIkMethod::automatic;
 };
 
 /// The walk: footstep plan, CoM from preview control, and the joint reference.
@@ -45,23 +38,26 @@ struct WalkingPattern {
 /// Generates the walk: ZMP reference from the footstep plan -> CoM (x, y) by preview control
 /// (preview.com_height is overwritten with posture.com_height + walk.ground_clearance) -> waist
 /// placed so that the whole-body CoM of the URDF model equals the CoM reference (fixed-point
-/// iteration), waist height constant, waist yaw the mean of the sole yaws -> legs by
-/// solve_leg_ik.
+/// iteration), waist height constant, waist yaw the mean of the sole yaws -> legs by the
+/// leg inverse kinematics (LegSolver). @p model: the robot without compliant ankles, free base;
+/// @p humanoid resolved on it.
 /// @throws std::runtime_error if a leg pose is out of reach or outside its joint limits (naming
 /// the joint, the time and the value), or if the CoM iteration does not converge.
-WalkingPattern make_walking_pattern(const urdf::ModelInterface& model,
+WalkingPattern make_walking_pattern(const multibody::Model& model, const Humanoid& humanoid,
                                     const WalkingParameters& walk,
                                     PreviewControlParameters preview = {},
-                                    const UpperBodyPosture& posture = {});
+                                    const PostureParameters& posture = {});
 
 /// Standing still with bent knees, CoM above the centre of the feet (sole centres at
 /// right_sole, left_sole), for `duration` seconds.
-JointReference make_standing_reference(const urdf::ModelInterface& model, double duration,
-                                       const Footstep& right_sole = {0.0, -0.105, 0.0},
-                                       const Footstep& left_sole = {0.0, 0.105, 0.0},
-                                       const UpperBodyPosture& posture = {}, double period = 0.005);
+JointReference make_standing_reference(const multibody::Model& model, const Humanoid& humanoid,
+                                       double duration, const Footstep& right_sole,
+                                       const Footstep& left_sole,
+                                       const PostureParameters& posture = {},
+                                       double period = 0.005);
 
-/// The lean test: feet fixed, waist origin fixed at its standing position, waist roll
+/// The lean test: feet fixed (at right_sole, left_sole), waist origin fixed at its standing
+/// position, waist roll
 /// (rotation about the world x axis, positive = left hip up) commanded gradually:
 ///   phi(t) = final_angle * s((t - start_time) / ramp_time),  s = quintic_transition,
 /// then held until start_time + ramp_time + hold_time. The legs follow by IK.
@@ -72,7 +68,9 @@ struct LeanParameters {
   double hold_time = 2.0;                   ///< [s], >= 0
   double period = 0.005;                    ///< [s], (0, 0.1]
 };
-JointReference make_lean_reference(const urdf::ModelInterface& model, const LeanParameters& lean,
-                                   const UpperBodyPosture& posture = {});
+JointReference make_lean_reference(const multibody::Model& model, const Humanoid& humanoid,
+                                   const LeanParameters& lean, const Footstep& right_sole,
+                                   const Footstep& left_sole,
+                                   const PostureParameters& posture = {});
 
 } // namespace plantar::walking

@@ -6,7 +6,10 @@
 #include "multibody/urdf_loader.h"
 #include "multibody/walking/leg_ik.h"
 #include "multibody/walking/numerical_leg_ik.h"
+#include "tests/multibody/walking/hrp2_humanoid.h"
 #include "tests/multibody/walking/urdf_fk.h"
+
+#include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
 #include <atomic>
@@ -290,7 +293,9 @@ void expect_round_trips(const RoundTrips& r) {
 
 TEST(NumericalLegIk, Hrp2RoundTripsAgreeWithAnalyticIk) {
   const Model model = build_model_from_urdf(kHrp2);
-  const auto urdf = load_urdf(kHrp2);
+  const auto urdf = urdf::parseURDFFile(kHrp2);
+  ASSERT_TRUE(urdf);
+  const plantar::walking::Humanoid humanoid(model, plantar::walking::testing::hrp2_description());
   for (LegSide side : {LegSide::right, LegSide::left}) {
     const LegNames names = hrp2_leg(side);
     const std::vector<int> joints = joint_ids(model, names);
@@ -300,7 +305,7 @@ TEST(NumericalLegIk, Hrp2RoundTripsAgreeWithAnalyticIk) {
                                              : "HRP-2 left leg from half-sitting",
                       r);
     expect_round_trips(r);
-    const LegGeometry leg = read_leg_geometry(*urdf, side);
+    const LegGeometry leg = read_leg_geometry(model, humanoid, side);
     // The angles of a solution within the pose tolerance 1e-10 are only as accurate as
     // 1e-10 / sigma_min(E) (sigma_min ~ 1e-2 with a knee bent 0.05 rad): each solution is also
     // refined to 1e-13 (from itself, 0-1 iterations) for the comparison with the closed form.
@@ -586,7 +591,6 @@ TEST(NumericalLegIk, WalkSequenceWarmStarted) {
       {"HRP-2", kHrp2, hrp2_leg(LegSide::right), hrp2_leg(LegSide::left), hrp2_half_sitting()},
       {"offset leg", kOffsetLeg, offset_leg(LegSide::right), offset_leg(LegSide::left),
        offset_leg_bent()}};
-  const auto urdf = load_urdf(kHrp2);
   for (const Robot& robot : robots) {
     const Model model = build_model_from_urdf(robot.urdf);
     const std::vector<int> right = joint_ids(model, robot.right);
@@ -661,8 +665,10 @@ TEST(NumericalLegIk, WalkSequenceWarmStarted) {
     if (robot.urdf != kHrp2)
       continue;
     // The closed form on the same samples, for the time per solve (information only).
-    const LegGeometry leg_r = read_leg_geometry(*urdf, LegSide::right);
-    const LegGeometry leg_l = read_leg_geometry(*urdf, LegSide::left);
+    const plantar::walking::Humanoid humanoid(model,
+                                              plantar::walking::testing::hrp2_description());
+    const LegGeometry leg_r = read_leg_geometry(model, humanoid, LegSide::right);
+    const LegGeometry leg_l = read_leg_geometry(model, humanoid, LegSide::left);
     std::vector<Eigen::Isometry3d> base_iso, swing_iso;
     for (int i = 0; i <= n_steps; ++i) {
       Eigen::VectorXd qb = q;

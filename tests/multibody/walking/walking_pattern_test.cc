@@ -3,6 +3,7 @@
 // joint reference within the URDF limits that realises the planned sole poses.
 #include "multibody/walking/leg_ik.h"
 #include "multibody/walking/walking_reference.h"
+#include "tests/multibody/walking/hrp2_humanoid.h"
 #include "tests/multibody/walking/urdf_fk.h"
 
 #include <algorithm>
@@ -10,14 +11,19 @@
 #include <cstdio>
 #include <gtest/gtest.h>
 #include <stdexcept>
+#include <urdf_parser/urdf_parser.h>
 
 namespace {
 
 using namespace plantar::walking;
+using plantar::walking::testing::hrp2_description;
+using plantar::walking::testing::hrp2_model;
+using plantar::walking::testing::hrp2_urdf;
 using plantar::walking::testing::link_pose;
+using plantar::walking::testing::mass_and_com;
 
-const std::string kUrdf = std::string(PLANTAR_SOURCE_DIR) + "/models/hrp2/hrp2.urdf";
-constexpr double kFootLength = 0.2172, kFootWidth = 0.138; // public HRP-2 sole size
+const Footstep kRightSole{0.0, -0.105, 0.0}, kLeftSole{0.0, 0.105, 0.0}; // feet side by side
+constexpr double kFootLength = 0.2172, kFootWidth = 0.138;               // public HRP-2 sole size
 
 using Point = Eigen::Vector2d;
 
@@ -64,11 +70,19 @@ void add_sole_corners(std::vector<Point>& points, const Eigen::Vector3d& centre,
       points.push_back(centre.head<2>() + rotation * Point(sx * kFootLength, sy * kFootWidth));
 }
 
-std::map<std::string, double> named_angles(const RobotAngles& q) {
+/// Joint angles of sample k of the reference, by the reference's own column names.
+std::map<std::string, double> named_angles(const JointReference& ref, int k) {
   std::map<std::string, double> named;
-  for (int i = 0; i < n_robot_joints; ++i)
-    named[robot_joint_names()[i]] = q(i);
+  for (int i = 0; i < ref.q.cols(); ++i)
+    named[ref.joint_names[i]] = ref.q(k, i);
   return named;
+}
+
+urdf::ModelInterfaceSharedPtr parse_hrp2() {
+  urdf::ModelInterfaceSharedPtr model = urdf::parseURDFFile(hrp2_urdf());
+  if (!model)
+    throw std::runtime_error("urdfdom failed to parse " + hrp2_urdf());
+  return model;
 }
 
 Eigen::Isometry3d base_pose(const JointReference& ref, int k) {
@@ -85,14 +99,14 @@ void check_limits(const urdf::ModelInterface& model, const JointReference& ref,
                   double& worst_violation, double& worst_speed_ratio, std::string& worst_joint) {
   worst_violation = -1e9;
   worst_speed_ratio = 0.0;
-  for (int j = 0; j < n_robot_joints; ++j) {
-    const auto limits = model.getJoint(robot_joint_names()[j])->limits;
+  for (int j = 0; j < ref.q.cols(); ++j) {
+    const auto limits = model.getJoint(ref.joint_names[j])->limits;
     const Eigen::VectorXd column = ref.q.col(j);
     const double violation =
         std::max(column.maxCoeff() - limits->upper, limits->lower - column.minCoeff());
     if (violation > worst_violation) {
       worst_violation = violation;
-      worst_joint = robot_joint_names()[j];
+      worst_joint = ref.joint_names[j];
     }
     for (int k = 0; k + 1 < ref.n_samples(); ++k)
       worst_speed_ratio = std::max(worst_speed_ratio, std::abs(column(k + 1) - column(k)) /
@@ -103,14 +117,24 @@ void check_limits(const urdf::ModelInterface& model, const JointReference& ref,
 class WalkingPatternTest : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
-    model_ = load_urdf(kUrdf);
-    pattern_ = new WalkingPattern(make_walking_pattern(*model_, WalkingParameters()));
+    urdf_ = parse_hrp2();
+    model_ = new plantar::multibody::Model(hrp2_model());
+    humanoid_ = new Humanoid(*model_, hrp2_description());
+    pattern_ = new WalkingPattern(make_walking_pattern(*model_, *humanoid_, WalkingParameters()));
   }
-  static void TearDownTestSuite() { delete pattern_; }
-  static std::shared_ptr<urdf::ModelInterface> model_;
+  static void TearDownTestSuite() {
+    delete pattern_;
+    delete humanoid_;
+    delete model_;
+  }
+  static urdf::ModelInterfaceSharedPtr urdf_; ///< the independent oracle (urdf_fk.h)
+  static plantar::multibody::Model* model_;
+  static Humanoid* humanoid_;
   static WalkingPattern* pattern_;
 };
-std::shared_ptr<urdf::ModelInterface> WalkingPatternTest::model_;
+urdf::ModelInterfaceSharedPtr WalkingPatternTest::urdf_;
+plantar::multibody::Model* WalkingPatternTest::model_ = nullptr;
+Humanoid* WalkingPatternTest::humanoid_ = nullptr;
 WalkingPattern* WalkingPatternTest::pattern_ = nullptr;
 
 TEST_F(WalkingPatternTest, PaperWalkTimingAndSteps) {
@@ -165,17 +189,24 @@ TEST_F(WalkingPatternTest, ZmpInsideSupportPolygon) {
               "0.02 m), in single support %.4f m; max |p - p_ref| %.4f m\n",
               min_margin, min_margin_time, min_margin_single, max_ref_error);
   EXPECT_GT(min_margin, 0.02);
-  // The CoM of the whole-body reference (URDF masses) equals the preview-control CoM.
-  double com_error = 0.0;
-  for (int k = 0; k < plan.n_samples; ++k)
-    com_error =
-        std::max(com_error, std::hypot(pattern_->reference.com(k, 0) - pattern_->com_x(k, 0),
-                                       pattern_->reference.com(k, 1) - pattern_->com_y(k, 0)));
-  const Eigen::VectorXd com_z = pattern_->reference.com.col(2);
-  std::printf("whole-body CoM vs preview CoM: %.3e m (tol 1e-8); CoM height %.4f..%.4f m "
-              "(cart-table z_c 0.814)\n",
-              com_error, com_z.minCoeff(), com_z.maxCoeff());
+  // The whole-body CoM of q_ref, recomposed by the test's own URDF chain (urdf_fk.h), equals
+  // the preview-control CoM, and the reference's CoM column.
+  const JointReference& ref = pattern_->reference;
+  ASSERT_EQ(ref.n_samples(), plan.n_samples);
+  double com_error = 0.0, com_column_error = 0.0;
+  for (int k = 0; k < plan.n_samples; ++k) {
+    const Eigen::Vector3d com =
+        base_pose(ref, k) * mass_and_com(*urdf_, named_angles(ref, k)).second;
+    com_error = std::max(
+        com_error, std::hypot(com.x() - pattern_->com_x(k, 0), com.y() - pattern_->com_y(k, 0)));
+    com_column_error = std::max(com_column_error, (com - ref.com.row(k).transpose()).norm());
+  }
+  const Eigen::VectorXd com_z = ref.com.col(2);
+  std::printf("whole-body CoM (URDF chain) vs preview CoM: %.3e m (tol 1e-8), vs the reference's "
+              "CoM column %.3e m (tol 1e-12); CoM height %.4f..%.4f m (cart-table z_c 0.814)\n",
+              com_error, com_column_error, com_z.minCoeff(), com_z.maxCoeff());
   EXPECT_LT(com_error, 1e-8);
+  EXPECT_LT(com_column_error, 1e-12);
 }
 
 // Multi-body ZMP of the joint reference (full rigid-body model, not the cart table):
@@ -198,14 +229,14 @@ TEST_F(WalkingPatternTest, MultibodyZmpInsideSupportPolygon) {
   double total_mass = 0.0;
   for (int k = 0; k < n; ++k) {
     const Eigen::Isometry3d base = base_pose(ref, k);
-    const auto named = named_angles(ref.q.row(k).transpose());
+    const auto named = named_angles(ref, k);
     Eigen::Vector3d moment = Eigen::Vector3d::Zero();
     total_mass = 0.0;
-    for (const auto& [name, link] : model_->links_) {
+    for (const auto& [name, link] : urdf_->links_) {
       if (!link->inertial)
         continue;
       const auto& in = *link->inertial;
-      const Eigen::Isometry3d pose = base * link_pose(*model_, name, named);
+      const Eigen::Isometry3d pose = base * link_pose(*urdf_, name, named);
       const Eigen::Isometry3d inertial_frame =
           pose * plantar::walking::testing::to_isometry(in.origin);
       Eigen::Matrix3d inertia;
@@ -328,14 +359,15 @@ TEST_F(WalkingPatternTest, JointReferenceRealisesPlanWithinLimits) {
   const JointReference& ref = pattern_->reference;
   const FootstepPlan& plan = pattern_->plan;
   // Sole poses from q_ref by the URDF chain (urdfdom transforms), against the plan.
+  const auto sole_links = hrp2_description().sole_frames;
+  EXPECT_EQ(ref.joint_names, humanoid_->joint_names);
   double max_sole_error = 0.0, max_sole_tilt = 0.0;
   double max_waist_speed = 0.0;
   for (int k = 0; k < ref.n_samples(); ++k) {
     const Eigen::Isometry3d base = base_pose(ref, k);
-    const auto named = named_angles(ref.q.row(k).transpose());
+    const auto named = named_angles(ref, k);
     for (int side = 0; side < 2; ++side) {
-      const Eigen::Isometry3d sole =
-          base * link_pose(*model_, side == 0 ? "r_sole" : "l_sole", named);
+      const Eigen::Isometry3d sole = base * link_pose(*urdf_, sole_links[side], named);
       const auto& planned = side == 0 ? plan.right_sole : plan.left_sole;
       const double yaw = side == 0 ? plan.right_yaw(k) : plan.left_yaw(k);
       max_sole_error =
@@ -351,20 +383,31 @@ TEST_F(WalkingPatternTest, JointReferenceRealisesPlanWithinLimits) {
   }
   double violation, speed_ratio;
   std::string joint;
-  check_limits(*model_, ref, violation, speed_ratio, joint);
-  // Leg joints only (the upper body is constant).
+  check_limits(*urdf_, ref, violation, speed_ratio, joint);
+  // Leg joints only (the upper body is constant: the posture).
   double leg_margin = 1e9;
   std::string leg_joint;
-  for (int j = 0; j < 12; ++j) {
-    const auto limits = model_->getJoint(robot_joint_names()[j])->limits;
-    const double margin =
-        std::min(limits->upper - ref.q.col(j).maxCoeff(), ref.q.col(j).minCoeff() - limits->lower);
-    if (margin < leg_margin) {
-      leg_margin = margin;
-      leg_joint = robot_joint_names()[j];
+  std::vector<bool> is_leg(ref.q.cols(), false);
+  for (const auto& columns : humanoid_->leg_columns)
+    for (int j : columns) {
+      is_leg[j] = true;
+      const auto limits = urdf_->getJoint(ref.joint_names[j])->limits;
+      const double margin = std::min(limits->upper - ref.q.col(j).maxCoeff(),
+                                     ref.q.col(j).minCoeff() - limits->lower);
+      if (margin < leg_margin) {
+        leg_margin = margin;
+        leg_joint = ref.joint_names[j];
+      }
     }
-  }
-  std::printf("worst leg joint-limit margin %.4f rad (%s)\n", leg_margin, leg_joint.c_str());
+  double max_posture_error = 0.0;
+  for (int j = 0; j < ref.q.cols(); ++j)
+    if (!is_leg[j])
+      max_posture_error = std::max(max_posture_error,
+                                   (ref.q.col(j).array() - humanoid_->posture[j]).abs().maxCoeff());
+  std::printf("worst leg joint-limit margin %.4f rad (%s); other joints vs posture %.1e rad\n",
+              leg_margin, leg_joint.c_str(), max_posture_error);
+  EXPECT_EQ(std::count(is_leg.begin(), is_leg.end(), true), 12);
+  EXPECT_EQ(max_posture_error, 0.0);
   // Continuity: second differences of q bounded (no jumps, e.g. branch switches of the IK).
   double max_jump = 0.0;
   for (int k = 1; k + 1 < ref.n_samples(); ++k)
@@ -388,7 +431,7 @@ TEST_F(WalkingPatternTest, JointReferenceRealisesPlanWithinLimits) {
 
 TEST_F(WalkingPatternTest, SampleInterpolates) {
   const JointReference& ref = pattern_->reference;
-  RobotAngles q;
+  Eigen::VectorXd q(ref.q.cols());
   Eigen::Isometry3d base;
   double max_error = 0.0;
   for (int k = 100; k + 2 < ref.n_samples(); k += 97) {
@@ -398,7 +441,7 @@ TEST_F(WalkingPatternTest, SampleInterpolates) {
     // 3t^3 - 5t^2 + 2, -3t^3 + 4t^2 + t, t^3 - t^2] at t = 1/4.
     const double w[4] = {-0.0703125, 0.8671875, 0.2265625, -0.0234375};
     ref.sample(ref.time(k) + 0.25 * ref.period, q, base);
-    RobotAngles expected = RobotAngles::Zero();
+    Eigen::VectorXd expected = Eigen::VectorXd::Zero(ref.q.cols());
     Eigen::Vector3d expected_base = Eigen::Vector3d::Zero();
     for (int i = 0; i < 4; ++i) {
       expected += w[i] * ref.q.row(k - 1 + i).transpose();
@@ -412,7 +455,8 @@ TEST_F(WalkingPatternTest, SampleInterpolates) {
 }
 
 TEST(WalkingPattern, BadInputIsReported) {
-  const auto model = load_urdf(kUrdf);
+  const plantar::multibody::Model model = hrp2_model();
+  const Humanoid humanoid(model, hrp2_description());
   WalkingParameters walk;
   walk.single_support_time = -0.78;
   try {
@@ -427,7 +471,7 @@ TEST(WalkingPattern, BadInputIsReported) {
   walk = WalkingParameters();
   walk.footsteps = {{0.0, -0.505, 0.0}, {0.0, 0.105, 0.0}};
   try {
-    make_walking_pattern(*model, walk);
+    make_walking_pattern(model, humanoid, walk);
     ADD_FAILURE() << "unreachable plan accepted";
   } catch (const std::runtime_error& e) {
     std::printf("rejected: %s\n", e.what());
@@ -437,61 +481,84 @@ TEST(WalkingPattern, BadInputIsReported) {
 }
 
 TEST(StandingReference, ComOverFeetWithBentKnees) {
-  const auto model = load_urdf(kUrdf);
-  const JointReference ref = make_standing_reference(*model, 1.0);
-  const auto named = named_angles(ref.q.row(0).transpose());
+  const plantar::multibody::Model model = hrp2_model();
+  const Humanoid humanoid(model, hrp2_description());
+  const auto urdf = parse_hrp2();
+  const auto sole_links = hrp2_description().sole_frames;
+  const JointReference ref = make_standing_reference(model, humanoid, 1.0, kRightSole, kLeftSole);
+  const auto named = named_angles(ref, 0);
   const Eigen::Isometry3d base = base_pose(ref, 0);
   // CoM recomputed with the test's own URDF chain.
-  const auto [mass, com] = plantar::walking::testing::mass_and_com(*model, named);
+  const auto [mass, com] = mass_and_com(*urdf, named);
   const Eigen::Vector3d com_world = base * com;
-  const Eigen::Vector3d right = (base * link_pose(*model, "r_sole", named)).translation();
-  const Eigen::Vector3d left = (base * link_pose(*model, "l_sole", named)).translation();
-  std::printf("standing: CoM (%.2e, %.2e, %.6f) m, soles z %.2e / %.2e, waist height %.4f m, "
-              "knees %.2f / %.2f deg\n",
-              com_world.x(), com_world.y(), com_world.z(), right.z(), left.z(),
-              base.translation().z(), ref.q(0, 3) * 180 / M_PI, ref.q(0, 9) * 180 / M_PI);
+  const Eigen::Vector3d right = (base * link_pose(*urdf, sole_links[0], named)).translation();
+  const Eigen::Vector3d left = (base * link_pose(*urdf, sole_links[1], named)).translation();
+  const int right_knee = humanoid.leg_columns[0][3], left_knee = humanoid.leg_columns[1][3];
+  std::printf("standing: CoM (%.2e, %.2e, %.6f) m (CoM column off by %.1e m), soles z %.2e / "
+              "%.2e, waist height %.4f m, knees %.2f / %.2f deg\n",
+              com_world.x(), com_world.y(), com_world.z(),
+              (ref.com.row(0).transpose() - com_world).norm(), right.z(), left.z(),
+              base.translation().z(), ref.q(0, right_knee) * 180 / M_PI,
+              ref.q(0, left_knee) * 180 / M_PI);
   EXPECT_NEAR(com_world.x(), 0.0, 1e-9);
   EXPECT_NEAR(com_world.y(), 0.0, 1e-9);
   EXPECT_NEAR(com_world.z(), 0.814, 1e-9);
+  EXPECT_LT((ref.com.row(0).transpose() - com_world).norm(), 1e-12);
   EXPECT_NEAR(right.z(), 0.0, 1e-9);
   EXPECT_NEAR(left.y(), 0.105, 1e-9);
-  EXPECT_GT(ref.q(0, 3), 0.3); // knees bent
+  EXPECT_GT(ref.q(0, right_knee), 0.3); // knees bent
+  EXPECT_GT(ref.q(0, left_knee), 0.3);
   EXPECT_EQ((ref.q.row(0) - ref.q.row(ref.n_samples() - 1)).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(ref.n_samples(), 201);
 }
 
 TEST(LeanReference, WaistRollRampsTo14_3Degrees) {
-  const auto model = load_urdf(kUrdf);
+  const plantar::multibody::Model model = hrp2_model();
+  const Humanoid humanoid(model, hrp2_description());
+  const auto urdf = parse_hrp2();
+  const auto sole_links = hrp2_description().sole_frames;
   const LeanParameters lean;
-  const JointReference ref = make_lean_reference(*model, lean);
-  double max_sole_drift = 0.0, previous_roll = -1.0;
+  const JointReference ref = make_lean_reference(model, humanoid, lean, kRightSole, kLeftSole);
+  double max_sole_drift = 0.0, previous_roll = -1.0, max_com_error = 0.0;
   bool monotone = true;
   const Eigen::Isometry3d base0 = base_pose(ref, 0);
-  const Eigen::Vector3d right0 =
-      (base0 * link_pose(*model, "r_sole", named_angles(ref.q.row(0).transpose()))).translation();
+  Eigen::Vector3d sole0[2];
+  for (int side = 0; side < 2; ++side)
+    sole0[side] = (base0 * link_pose(*urdf, sole_links[side], named_angles(ref, 0))).translation();
   for (int k = 0; k < ref.n_samples(); ++k) {
     const Eigen::Isometry3d base = base_pose(ref, k);
-    const auto named = named_angles(ref.q.row(k).transpose());
-    const Eigen::Isometry3d sole = base * link_pose(*model, "r_sole", named);
-    max_sole_drift = std::max(max_sole_drift, (sole.translation() - right0).norm() +
-                                                  Eigen::AngleAxisd(sole.linear()).angle());
+    const auto named = named_angles(ref, k);
+    for (int side = 0; side < 2; ++side) {
+      const Eigen::Isometry3d sole = base * link_pose(*urdf, sole_links[side], named);
+      max_sole_drift = std::max(max_sole_drift, (sole.translation() - sole0[side]).norm() +
+                                                    Eigen::AngleAxisd(sole.linear()).angle());
+    }
+    max_com_error =
+        std::max(max_com_error,
+                 (base * mass_and_com(*urdf, named).second - ref.com.row(k).transpose()).norm());
     const double roll = std::atan2(base.linear()(2, 1), base.linear()(2, 2));
     monotone = monotone && roll >= previous_roll - 1e-15;
     previous_roll = roll;
   }
   double violation, speed_ratio;
   std::string joint;
-  check_limits(*model, ref, violation, speed_ratio, joint);
+  check_limits(*urdf, ref, violation, speed_ratio, joint);
   std::printf("lean: final waist roll %.6f deg (commanded 14.3), feet drift %.2e (tol 1e-9), "
-              "worst joint-limit margin %.4f rad (%s), CoM y moved %.4f m\n",
+              "worst joint-limit margin %.4f rad (%s), CoM y moved %.4f m, CoM column vs URDF "
+              "chain %.1e m\n",
               previous_roll * 180 / M_PI, max_sole_drift, -violation, joint.c_str(),
-              ref.com(ref.n_samples() - 1, 1) - ref.com(0, 1));
+              ref.com(ref.n_samples() - 1, 1) - ref.com(0, 1), max_com_error);
+  EXPECT_NEAR(sole0[0].y(), kRightSole.y, 1e-9);
+  EXPECT_NEAR(sole0[1].y(), kLeftSole.y, 1e-9);
   EXPECT_NEAR(previous_roll * 180 / M_PI, 14.3, 1e-9);
   EXPECT_TRUE(monotone);
   EXPECT_LT(max_sole_drift, 1e-9);
+  EXPECT_LT(max_com_error, 1e-12);
   EXPECT_LE(violation, 0.0);
   LeanParameters bad;
   bad.ramp_time = 0.0;
-  EXPECT_THROW(make_lean_reference(*model, bad), std::invalid_argument);
+  EXPECT_THROW(make_lean_reference(model, humanoid, bad, kRightSole, kLeftSole),
+               std::invalid_argument);
 }
 
 } // namespace
