@@ -10,9 +10,6 @@
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/data_postprocessor.h>
 
-#include <urdf_model/model.h>
-#include <urdf_parser/urdf_parser.h>
-
 #include <cstdio>
 #include <iomanip>
 
@@ -159,10 +156,11 @@ public:
   }
 };
 
+/// vtk/<stem>_NNNNNN.vtp for the links, .vtu for the soles.
 std::string frame_name(const std::string& stem, int frame) {
   char number[16];
-  std::snprintf(number, sizeof number, "_%06d.vtu", frame);
-  return "vtk/" + stem + number;
+  std::snprintf(number, sizeof number, "_%06d", frame);
+  return "vtk/" + stem + number + (stem == "links" ? ".vtp" : ".vtu");
 }
 
 } // namespace
@@ -171,10 +169,7 @@ SceneVtkWriter::SceneVtkWriter(const HumanoidSimulation& simulation,
                                const std::filesystem::path& urdf_file, double stick_radius,
                                const std::filesystem::path& directory)
     : directory_(directory), data_(simulation.model()) {
-  const auto urdf = urdf::parseURDFFile(urdf_file.string());
-  if (!urdf)
-    throw std::runtime_error("urdfdom could not parse '" + urdf_file.string() + "'");
-  shapes_ = make_link_shapes(simulation.model(), *urdf, stick_radius);
+  shapes_ = make_link_shapes(simulation.model(), urdf_file, stick_radius);
   if (const coupling::CondensedSole* sole = simulation.sole()) {
     const auto n = static_cast<unsigned int>(sole->n_dofs());
     displacement_.reinit(n);
@@ -206,7 +201,7 @@ SceneVtkWriter::~SceneVtkWriter() = default;
 void SceneVtkWriter::write(const HumanoidSimulation& simulation) {
   const int frame = n_frames();
   multibody::forward_kinematics(simulation.model(), data_, simulation.q());
-  write_links_vtu(simulation.model(), data_, shapes_, directory_ / frame_name("links", frame));
+  write_links_vtp(simulation.model(), data_, shapes_, directory_ / frame_name("links", frame));
   if (simulation.sole() || simulation.hyperelastic_sole(0))
     for (int foot = 0; foot < 2; ++foot)
       write_sole(simulation, foot,

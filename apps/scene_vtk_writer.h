@@ -1,7 +1,7 @@
 #pragma once
 // The ParaView series of a humanoid run: one frame per call of write(), in the world frame.
 //
-// <directory>/vtk/links_NNNNNN.vtu        the robot's links (scene_vtk_links.h)
+// <directory>/vtk/links_NNNNNN.vtp        the robot's links (scene_vtk_links.h)
 // <directory>/vtk/sole_{right,left}_NNNNNN.vtu   (Foot form = fem sole) each sole, its points
 //     at their undeformed positions x = R_s X + p_s (X: mesh coordinates, R_s, p_s: the
 //     r_sole/l_sole frame in the world), with point data

@@ -1,7 +1,9 @@
-# Fails if a lower module includes a higher one, or multibody includes deal.II.
+# Fails if a lower module includes a higher one, multibody includes deal.II, or a module
+# below apps includes VTK (vtk*.h).
 set(bad "")
 foreach(pair "fem;coupling/" "fem;multibody/" "fem;apps/" "coupling;multibody/" "coupling;apps/"
-             "multibody;apps/" "multibody;deal.II/" "multibody;fem/")
+             "multibody;apps/" "multibody;deal.II/" "multibody;fem/" "fem;vtk" "coupling;vtk"
+             "multibody;vtk")
   list(GET pair 0 dir)
   list(GET pair 1 forbidden)
   file(GLOB_RECURSE files ${ROOT}/${dir}/*.h ${ROOT}/${dir}/*.cc)

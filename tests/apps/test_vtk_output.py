@@ -7,7 +7,8 @@ Sole/Model = hyperelastic, 0.15 s, a Newton check of the sole at every step) and
 frame, against quantities computed elsewhere:
   - the series: parameters.prm and the CSVs are there, the .pvd lists one frame per 50 steps
     (t = 0, 0.05, ..., 0.2) with files that exist;
-  - links: one VTK_VERTEX per body; body 1's vertex is the waist position of waist.csv;
+  - links (.vtp, zlib): one VTK_VERTEX per body; body 1's vertex is the waist position of
+    waist.csv; the points and polygons of the URDF's boxes and cylinders;
   - soles: every array present, with the right number of components and tuples; on the bottom
     nodes the recovered displacement equals the stepper's contact displacement (linear: to
     1e-5 of max |u_c|; hyperelastic: the written field is the Newton solution at the step's
@@ -42,7 +43,9 @@ def check(ok, what):
 
 
 def read_vtu(path):
-    reader = vtk.vtkXMLUnstructuredGridReader()
+    """A .vtu (soles) or .vtp (links) file."""
+    reader = (vtk.vtkXMLPolyDataReader() if str(path).endswith(".vtp")
+              else vtk.vtkXMLUnstructuredGridReader())
     reader.SetFileName(str(path))
     reader.Update()
     grid = reader.GetOutput()
@@ -85,6 +88,22 @@ def robot_mass(urdf):
     return sum(float(m.get("value")) for m in ET.parse(urdf).getroot().iter("mass"))
 
 
+def link_surface_counts(urdf):
+    """(points, polygons) of the links' surfaces from the URDF's boxes (8 corners, 6 faces) and
+    cylinders (2 x 16 rim points, 16 sides + 2 caps), <visual> else <collision> per link."""
+    points = polygons = 0
+    for link in ET.parse(urdf).getroot().iter("link"):
+        elements = link.findall("visual") or link.findall("collision")
+        for geometry in (e.find("geometry") for e in elements):
+            if geometry.find("box") is not None:
+                points, polygons = points + 8, polygons + 6
+            elif geometry.find("cylinder") is not None:
+                points, polygons = points + 32, polygons + 18
+            else:
+                raise RuntimeError(f"{urdf}: link {link.get('name')}: not a box or cylinder")
+    return points, polygons
+
+
 def run_case(plantar, source, out, prm, duration, u_tolerance):
     """One run of @p prm into @p out; the checks above. Returns {(t, foot): max von Mises}, None
     if plantar failed."""
@@ -117,10 +136,20 @@ def run_case(plantar, source, out, prm, duration, u_tolerance):
     check(len(scene_sets) == 3 * len(expected_times), "scene.pvd: not 3 parts per frame")
 
     mass = robot_mass(source / "models/hrp2/hrp2.urdf")
+    surface_points, surface_polygons = link_surface_counts(source / "models/hrp2/hrp2.urdf")
     max_dev = {"waist": 0.0, "u": 0.0, "force": 0.0, "gap": 0.0, "cone": 0.0}
     peak_von_mises = {}
     for frame, (t, links_file) in enumerate(series["links"]):
+        check(links_file.suffix == ".vtp", f"{links_file}: not a .vtp")
+        with open(links_file, "rb") as f:
+            head = f.read(300)
+        check(b'type="PolyData"' in head and b'compressor="vtkZLibDataCompressor"' in head,
+              f"{links_file}: not zlib-compressed PolyData")
         links = read_vtu(links_file)
+        check(links.GetNumberOfPoints() == 31 + surface_points
+              and links.GetNumberOfPolys() == surface_polygons,
+              f"t = {t}: links {links.GetNumberOfPoints()} points, {links.GetNumberOfPolys()} "
+              f"polygons != 31 + {surface_points}, {surface_polygons} (URDF)")
         types = np.array([links.GetCellType(c) for c in range(links.GetNumberOfCells())])
         body = vtk_to_numpy(links.GetCellData().GetArray("body"))
         vertices = np.flatnonzero(types == vtk.VTK_VERTEX)
