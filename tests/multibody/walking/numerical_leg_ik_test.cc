@@ -4,6 +4,8 @@
 // legs the analytic IK rejects. Joint and frame names live here only.
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
+#include "multibody/walking/humanoid.h"
+#include "multibody/walking/leg_geometry.h"
 #include "multibody/walking/leg_ik.h"
 #include "multibody/walking/numerical_leg_ik.h"
 #include "tests/multibody/walking/hrp2_humanoid.h"
@@ -374,6 +376,37 @@ TEST(NumericalLegIk, OffsetLegRoundTrips) {
   }
 }
 
+// kestrel (models/kestrel, the project's second humanoid): hip pitch-roll-yaw with offsets, knee
+// and ankle offsets along x, its sole frames placed on the foot links as its scenes place them.
+TEST(NumericalLegIk, KestrelRoundTrips) {
+  Model model =
+      build_model_from_urdf(std::string(PLANTAR_SOURCE_DIR) + "/models/kestrel/kestrel.urdf");
+  plantar::walking::HumanoidDescription description;
+  description.base_link = "pelvis";
+  description.foot_links = {"r_foot", "l_foot"};
+  const SE3 sole(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.02, 0.0, -0.055));
+  description.sole_placements = {sole, sole};
+  plantar::walking::add_sole_frames(model, description);
+  const plantar::walking::Humanoid humanoid(model, description);
+  for (LegSide side : {LegSide::right, LegSide::left}) {
+    LegNames names = offset_leg(side);
+    names.sole = plantar::walking::placed_sole_frame_name(description, side);
+    // The Humanoid finds the same chain from the foot link up to the pelvis.
+    const std::vector<int> joints = joint_ids(model, names);
+    for (int k = 0; k < 6; ++k)
+      EXPECT_EQ(humanoid.leg_joints[static_cast<int>(side)][k], joints[k]);
+    std::string reason;
+    EXPECT_FALSE(plantar::walking::analytic_leg_geometry(model, humanoid, side, reason));
+    std::printf("kestrel %s leg: no closed form (%s)\n", to_string(side), reason.c_str());
+    const RoundTrips r =
+        round_trips(model, names, offset_leg_bent(), 1000, side == LegSide::right ? 41u : 42u);
+    print_round_trips(side == LegSide::right ? "kestrel, right, from a bent pose"
+                                             : "kestrel, left, from a bent pose",
+                      r);
+    expect_round_trips(r);
+  }
+}
+
 TEST(NumericalLegIk, ErrorJacobianMatchesFiniteDifferences) {
   struct Robot {
     std::string urdf;
@@ -665,8 +698,7 @@ TEST(NumericalLegIk, WalkSequenceWarmStarted) {
     if (robot.urdf != kHrp2)
       continue;
     // The closed form on the same samples, for the time per solve (information only).
-    const plantar::walking::Humanoid humanoid(model,
-                                              plantar::walking::testing::hrp2_description());
+    const plantar::walking::Humanoid humanoid(model, plantar::walking::testing::hrp2_description());
     const LegGeometry leg_r = read_leg_geometry(model, humanoid, LegSide::right);
     const LegGeometry leg_l = read_leg_geometry(model, humanoid, LegSide::left);
     std::vector<Eigen::Isometry3d> base_iso, swing_iso;
