@@ -37,4 +37,13 @@ load_humanoid_scene(const std::string& name,
 
 inline const char* const foot_forms[] = {"rigid", "compliant ankle", "fem sole"};
 
+/// GoogleTest name of a foot-form parameter: "compliant ankle" -> "compliant_ankle".
+template <class Info> std::string foot_form_name(const Info& info) {
+  std::string name = info.param;
+  for (auto& c : name)
+    if (c == ' ')
+      c = '_';
+  return name;
+}
+
 } // namespace plantar::app::testing

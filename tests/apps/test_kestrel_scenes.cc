@@ -83,13 +83,7 @@ TEST_P(Kestrel, WalksSixSteps) {
 }
 
 INSTANTIATE_TEST_SUITE_P(FootForms, Kestrel, ::testing::ValuesIn(testing::foot_forms),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           for (auto& c : name)
-                             if (c == ' ')
-                               c = '_';
-                           return name;
-                         });
+                         testing::foot_form_name<::testing::TestParamInfo<const char*>>);
 
 } // namespace
 } // namespace plantar::app
