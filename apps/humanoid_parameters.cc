@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -34,22 +35,30 @@ std::string footsteps_text(const std::vector<walking::Footstep>& steps) {
   return out.str();
 }
 
+/// The finite number that @p text is (surrounding blanks allowed), or nothing.
+std::optional<double> to_number(const std::string& text) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  if (text.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(value))
+    return std::nullopt;
+  return value;
+}
+
 /// Comma-separated finite numbers, between @p min_count and @p max_count of them.
 std::vector<double> parse_numbers(const std::string& text, const std::string& parameter,
                                   std::size_t min_count, std::size_t max_count) {
   std::vector<double> values;
   for (const std::string& item : dealii::Utilities::split_string_list(text, ',')) {
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(value))
+    const std::optional<double> value = to_number(item);
+    if (!value)
       throw std::invalid_argument(parameter + " = '" + text + "': '" + item +
                                   "' is not a finite number");
-    values.push_back(value);
+    values.push_back(*value);
   }
   if (values.size() < min_count || values.size() > max_count) {
     std::ostringstream msg;
@@ -127,18 +136,11 @@ std::vector<walking::Footstep> parse_footsteps(const std::string& text,
     double values[3];
     int n = 0;
     while (std::getline(fields, field, ',')) {
-      std::size_t used = 0;
-      double value = 0;
-      try {
-        value = std::stod(field, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used == 0 || field.find_first_not_of(" \t", used) != std::string::npos || n == 3 ||
-          !std::isfinite(value))
+      const std::optional<double> value = to_number(field);
+      if (!value || n == 3)
         throw std::invalid_argument(parameter + ": footstep '" + item +
                                     "' is not 'x, y, yaw' (three numbers: m, m, rad)");
-      values[n++] = value;
+      values[n++] = *value;
     }
     if (n != 3)
       throw std::invalid_argument(parameter + ": footstep '" + item +
