@@ -175,8 +175,8 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.normal_bias.restitution = scene_.contact.restitution;
   stepper_parameters.normal_bias.position_correction = scene_.contact.position_correction;
   stepper_parameters.solver.solver = scene_.contact.solver == "admm"
-                                         ? coupling::ContactSolverType::admm
-                                         : coupling::ContactSolverType::gauss_seidel;
+                                         ? contact::ContactSolverType::admm
+                                         : contact::ContactSolverType::gauss_seidel;
   stepper_parameters.solver.tolerance = scene_.contact.tolerance;
   stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
   stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
@@ -430,12 +430,12 @@ void HumanoidSimulation::step() {
     summary_.max_solver_residual = std::max(summary_.max_solver_residual, report.solver.residual);
     ++summary_.n_solves;
     summary_.n_direct_solves += report.solver.direct ? 1 : 0;
-    const coupling::DirectAttempt attempt = report.solver.direct_attempt;
-    summary_.n_direct_refused_cone += attempt == coupling::DirectAttempt::refused_cone ? 1 : 0;
+    const contact::DirectAttempt attempt = report.solver.direct_attempt;
+    summary_.n_direct_refused_cone += attempt == contact::DirectAttempt::refused_cone ? 1 : 0;
     summary_.n_direct_refused_residual +=
-        attempt == coupling::DirectAttempt::refused_residual ? 1 : 0;
-    if (attempt == coupling::DirectAttempt::refused_cone ||
-        attempt == coupling::DirectAttempt::refused_residual)
+        attempt == contact::DirectAttempt::refused_residual ? 1 : 0;
+    if (attempt == contact::DirectAttempt::refused_cone ||
+        attempt == contact::DirectAttempt::refused_residual)
       summary_.iterations_after_refusal += report.solver.iterations;
     summary_.n_local_solves += report.solver.n_local_solves;
     summary_.solver_iterations += report.solver.iterations;
@@ -445,7 +445,7 @@ void HumanoidSimulation::step() {
       ++summary_.n_unconverged;
       if (!(report.solver.residual <= scene_.contact.failure_residual)) {
         std::ostringstream msg;
-        msg << "contact solver " << coupling::to_string(report.solver.status) << " after "
+        msg << "contact solver " << contact::to_string(report.solver.status) << " after "
             << report.solver.iterations << " iterations, residual " << report.solver.residual
             << " m/s > Contact/Failure residual " << scene_.contact.failure_residual;
         fail(msg.str());

@@ -1,7 +1,7 @@
 #pragma once
 // A condensed sole's compliance C (sole frame, coupling/condensed_sole.h)
 // expressed in per-contact frames, the form the contact problem uses
-// (coupling/contact/contact_problem.h: rows n, t1, t2 of each contact).
+// (contact/contact_problem.h: rows n, t1, t2 of each contact).
 //
 // The sole frame is rotated into the world by R (foot orientation), and
 // contact k has the world frame F_k = [n_k t1_k t2_k] (orthonormal columns).
@@ -10,7 +10,7 @@
 // and a contact-frame force f_k acts on the sole as A_k^T f_k, so blockwise
 //   C_contact(k, l) = A_k C(k, l) A_l^T   (= F_k^T (R C(k, l) R^T) F_l),
 // i.e. C_world = R C R^T blockwise, then projected onto the contact frames.
-// The stepper divides the result by dt^2 for CompliantPatch (compliance_terms.h).
+// The stepper divides the result by dt^2 for contact::CompliantPatch (compliance_terms.h).
 
 #include <Eigen/Core>
 

@@ -1,6 +1,6 @@
 #include "multibody/stepper.h"
 
-#include "coupling/contact/compliance_terms.h"
+#include "contact/compliance_terms.h"
 #include "multibody/configuration.h"
 #include "multibody/crba.h"
 #include "multibody/jacobian.h"
@@ -187,11 +187,11 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
   n_patch_points_ += n;
   add_body_slot(body);
   patches_.push_back(std::move(patch));
-  problem_.patches.push_back(coupling::CompliantPatch{});
+  problem_.patches.push_back(contact::CompliantPatch{});
   problem_.patches.back().warm_product.setZero(3 * n);
   // The patch's rigid rows are (I (x) a) Lambda T with Lambda's node rows [I, -[rho]x] (body
   // frame) and T = blockdiag(R_b^T, R_b^T) H_b: the structure of the direct sticking solve.
-  coupling::set_sticking_structure(problem_.patches.back(), coupling::rigid_lever(nodes));
+  contact::set_sticking_structure(problem_.patches.back(), contact::rigid_lever(nodes));
   resize_workspaces();
   return static_cast<int>(patches_.size()) - 1;
 }
@@ -229,7 +229,7 @@ void Stepper::fill_contact_rows(int k, int point) {
   problem_.free_velocity.segment<3>(3 * k) = point_velocity(slot_free_velocity_[s], r);
 }
 
-void Stepper::update_patch_rotation(Patch& patch, coupling::CompliantPatch& target) {
+void Stepper::update_patch_rotation(Patch& patch, contact::CompliantPatch& target) {
   const Eigen::Matrix3d a = ground_frame_transpose() * data_.oMi[patch.body].rotation;
   const int n_nodes = static_cast<int>(patch.nodes.cols());
   if (patch.has_last_solve) {
@@ -338,7 +338,7 @@ void Stepper::set_patch_block(int patch) {
                               ? problem_.patches[patch].compliance_over_dt
                               : target.parked;
   held = target.compliance * (a / ((theta * dt) * (theta * dt)));
-  coupling::set_sticking_structure(problem_.patches[patch], problem_.patches[patch].lever);
+  contact::set_sticking_structure(problem_.patches[patch], problem_.patches[patch].lever);
   target.has_last_solve = false;
 }
 
@@ -480,7 +480,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
                                   (patch.has_offset ? patch.offset_contact[3 * k] : 0.0);
       any_active = any_active || unloaded_gap + dt * std::min(v_free_n, 0.0) <= margin;
     }
-    coupling::CompliantPatch& target = problem_.patches[j];
+    contact::CompliantPatch& target = problem_.patches[j];
     if (!any_active) {
       if (target.compliance_over_dt.size() != 0) {
         target.compliance_over_dt.swap(patch.parked);
@@ -539,7 +539,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     }
     // T = blockdiag(R_b^T, R_b^T) H_b of each patch in contact (CompliantPatch::lever_map).
     for (std::size_t j = 0; j < patches_.size(); ++j) {
-      coupling::CompliantPatch& target = problem_.patches[j];
+      contact::CompliantPatch& target = problem_.patches[j];
       target.lever_map_valid = target.n_contacts > 0;
       if (target.lever_map_valid) {
         const int s = body_slot_[patches_[j].body];
@@ -561,7 +561,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       // A sole node's velocity is (x+ - x) / (theta dt) = v+ + (1-theta)/theta v (theta-mixed
       // position update), so its gap is closed over theta dt.
       const bool node = point < n_patch_points_;
-      problem_.normal_bias[k] = coupling::normal_bias(gap, v_before_[point], node ? theta_dt : dt,
+      problem_.normal_bias[k] = contact::normal_bias(gap, v_before_[point], node ? theta_dt : dt,
                                                       parameters_.normal_bias);
       if (node && theta < 1.0) {
         problem_.free_velocity.segment<3>(3 * k) +=
@@ -578,10 +578,10 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
         if (patch.damping > 0.0) { // U - U_bar = (U - (1-theta) C F_prev) / (beta/dt + theta)
           patch.relaxation =
               (patch.displacement - (1.0 - theta) * patch.elastic) / (patch.damping / dt + theta);
-          coupling::add_deformation_rate_term(problem_.patches[j], patch.relaxation, theta_dt,
+          contact::add_deformation_rate_term(problem_.patches[j], patch.relaxation, theta_dt,
                                               problem_);
         } else {
-          coupling::add_deformation_rate_term(problem_.patches[j], patch.displacement, theta_dt,
+          contact::add_deformation_rate_term(problem_.patches[j], patch.displacement, theta_dt,
                                               problem_);
         }
         if (patches_[j].has_offset) { // -(U_prev - d) / (theta dt)
@@ -596,13 +596,13 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     lap(profile_.contact_solve);
     ++profile_.n_solves;
     profile_.n_solve_rows += 3 * n;
-    if (report.solver.status == coupling::SolverStatus::non_finite) {
+    if (report.solver.status == contact::SolverStatus::non_finite) {
       throw std::runtime_error("Stepper::step: the contact solver produced non-finite impulses "
                                "with " +
                                std::to_string(n) + " contacts");
     }
     if (parameters_.throw_if_not_converged) {
-      coupling::throw_if_not_converged(report.solver, parameters_.solver, "Stepper::step");
+      contact::throw_if_not_converged(report.solver, parameters_.solver, "Stepper::step");
     }
     // v+ = v_free + L^-T (G^T p), G^T p = sum over bodies of (L^-1 J_b^T) (sum of S^T p).
     for (auto& impulse : slot_impulse_) {
@@ -625,7 +625,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     v_mid_ = (1.0 - theta) * v + theta * (v_free_ + dv_); // v_theta
     v = v_free_ + dv_;
   } else {
-    report.solver.status = coupling::SolverStatus::converged;
+    report.solver.status = contact::SolverStatus::converged;
     v_mid_ = (1.0 - theta) * v + theta * v_free_;
     v = v_free_;
   }
@@ -647,7 +647,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     point_impulse_[active_points_[k]] += impulses_.segment<3>(3 * k);
   }
   for (std::size_t j = 0; j < patches_.size(); ++j) {
-    coupling::CompliantPatch& target = problem_.patches[j];
+    contact::CompliantPatch& target = problem_.patches[j];
     Patch& patch = patches_[j];
     if (target.n_contacts > 0) {
       // F = P / (theta dt); U_c = C F = theta dt (I (x) a) C/(theta dt)^2 (I (x) a)^T P from
@@ -656,7 +656,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       patch.has_force = true;
       patch.product = solver_.patch_product(target);
       patch.impulse = impulses_.segment(3 * target.first_contact, 3 * target.n_contacts);
-      coupling::rotate_to_patch(patch.rotation, patch.impulse);
+      contact::rotate_to_patch(patch.rotation, patch.impulse);
       patch.has_last_solve = true;
       // A direct solve's product is fresh (no incremental updates).
       patch.sweeps_since_fresh =

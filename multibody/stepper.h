@@ -26,9 +26,9 @@
 // With implicit_gains = false the springs are explicit instead (M_eff = M, forces at q, v):
 // kept to show that stiff gains diverge that way.
 //
-// Contact problem (coupling/contact/contact_problem.h), contact frame rows (n = +z, t1 = +x,
+// Contact problem (contact/contact_problem.h), contact frame rows (n = +z, t1 = +x,
 // t2 = +y): J_c the point Jacobians in that order, G = J_c L^-T (so G G^T = J_c M_eff^-1 J_c^T),
-// v_free,c = J_c v_free, b = coupling::normal_bias: restitution e v_n^- for a bouncing impact,
+// v_free,c = J_c v_free, b = contact::normal_bias: restitution e v_n^- for a bouncing impact,
 // gap/dt for a contact activated before touching (gap > 0, so that it lands on the plane
 // instead of stopping above it, and no deeper), else the position correction.
 // A point is active when its gap g (z of the point) satisfies g + dt min(v_free,n, 0) <= 0.
@@ -44,10 +44,10 @@
 // malloc guard, except inside Eigen's blocked Cholesky of a patch block larger than about
 // 100 contacts, see contact_solver.h).
 
-#include "coupling/contact/contact_problem.h"
-#include "coupling/contact/contact_solver.h"
-#include "coupling/contact/position_correction.h"
-#include "coupling/contact/solver_settings.h"
+#include "contact/contact_problem.h"
+#include "contact/contact_solver.h"
+#include "contact/position_correction.h"
+#include "contact/solver_settings.h"
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/pd_gains.h"
@@ -71,8 +71,8 @@ struct StepperParameters {
   /// springs, the sole forces and the position update (1: eq. 4, first order, damps the stiff
   /// springs; 0.5: second order, no numerical damping of linear springs).
   double theta = 1.0;
-  coupling::NormalBiasParameters normal_bias; ///< restitution e, position correction
-  coupling::SolverSettings solver;            ///< contact solver (ADMM by default)
+  contact::NormalBiasParameters normal_bias; ///< restitution e, position correction
+  contact::SolverSettings solver;            ///< contact solver (ADMM by default)
   /// Throw std::runtime_error when the contact solver does not converge (default: only count
   /// it in StepReport; non-finite results always throw).
   bool throw_if_not_converged = false;
@@ -90,7 +90,7 @@ struct StepProfile {
   double dynamics = 0;      ///< CRBA, RNEA, Cholesky of M_eff, v_free, v+, integration
   double contact_build = 0; ///< candidate Jacobians and gaps, G = J L^-T, v_free,c, bias
   double sole_update = 0;   ///< patch blocks A C A^T / dt^2, deformation-rate term, U_c
-  double contact_solve = 0; ///< coupling::ContactSolver::solve
+  double contact_solve = 0; ///< contact::ContactSolver::solve
   long n_steps = 0;
   long n_solves = 0;     ///< steps with at least one active contact
   long n_solve_rows = 0; ///< sum over solves of 3 n_contacts
@@ -100,7 +100,7 @@ struct StepProfile {
 /// What happened in one step.
 struct StepReport {
   int n_contacts = 0; ///< active contacts (patch nodes included)
-  coupling::SolverResult solver;
+  contact::SolverResult solver;
 };
 
 class Stepper {
@@ -132,7 +132,7 @@ public:
 
   /// Data of the last step's start configuration (M, bias, placements).
   const Data& data() const { return data_; }
-  const coupling::ContactProblem& problem() const { return problem_; }
+  const contact::ContactProblem& problem() const { return problem_; }
   /// Impulse (N s, contact frame [n = z, t1 = x, t2 = y]) of the last step on contact point
   /// @p point (index returned by add_contact_point).
   const Eigen::Vector3d& point_impulse(int point) const {
@@ -219,7 +219,7 @@ private:
   void fill_contact_rows(int k, int point);
   /// Sets the patch's rotation for this step (and its offset in the contact frames); rotates
   /// the warm-start impulses of its nodes with the body so that the kept product stays valid.
-  void update_patch_rotation(Patch& patch, coupling::CompliantPatch& target);
+  void update_patch_rotation(Patch& patch, contact::CompliantPatch& target);
   /// Rigid factor with 6 columns per contact body: G_k = S_k Z_b, Z Z^T = H H^T, H the
   /// stacked J_b L^-T of the bodies in contact (semi-definite Cholesky).
   void reduce_rigid_factor();
@@ -256,8 +256,8 @@ private:
   Eigen::VectorXd gap_, v_before_;                                     // per candidate point
   std::vector<Eigen::Vector3d> lever_; // per candidate point: r = p - o_b (world, m)
   std::vector<int> active_points_;     // capacity = number of points
-  coupling::ContactProblem problem_;
-  coupling::ContactSolver solver_;
+  contact::ContactProblem problem_;
+  contact::ContactSolver solver_;
   StepProfile profile_;
 };
 

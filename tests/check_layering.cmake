@@ -1,8 +1,13 @@
-# Fails if a lower module includes a higher one, multibody includes deal.II, or a module
-# below apps includes VTK (vtk*.h).
+# Fails if a module includes a module above it. The floors (docs/design.md):
+#   fem, contact        ground floors: fem uses deal.II; contact is Eigen only
+#   coupling            a deformable pad on its contact nodes: uses fem and contact
+#   multibody           Eigen + urdfdom; uses contact only (no deal.II, no fem, no coupling)
+#   apps                everything (and VTK, which no module below apps uses)
 set(bad "")
-foreach(pair "fem;coupling/" "fem;multibody/" "fem;apps/" "coupling;multibody/" "coupling;apps/"
-             "multibody;apps/" "multibody;deal.II/" "multibody;fem/" "fem;vtk" "coupling;vtk"
+foreach(pair "fem;contact/" "fem;coupling/" "fem;multibody/" "fem;apps/" "contact;fem/"
+             "contact;coupling/" "contact;multibody/" "contact;apps/" "contact;deal.II/"
+             "coupling;multibody/" "coupling;apps/" "multibody;apps/" "multibody;deal.II/"
+             "multibody;fem/" "multibody;coupling/" "fem;vtk" "contact;vtk" "coupling;vtk"
              "multibody;vtk")
   list(GET pair 0 dir)
   list(GET pair 1 forbidden)
@@ -14,13 +19,18 @@ foreach(pair "fem;coupling/" "fem;multibody/" "fem;apps/" "coupling;multibody/" 
     endif()
   endforeach()
 endforeach()
-# The contact solver (plantar_contact) is used by multibody, so it must not see deal.II either.
-file(GLOB contact_files ${ROOT}/coupling/contact/*.h ${ROOT}/coupling/contact/*.cc)
-foreach(f ${contact_files})
-  file(STRINGS ${f} lines REGEX "^#include [<\"](deal.II|fem)/")
-  if(lines)
-    string(APPEND bad "${f}: ${lines}\n")
-  endif()
+# The folders and namespaces agree: plantar::<folder> (apps: plantar::app).
+foreach(dir fem contact coupling multibody)
+  file(GLOB_RECURSE files ${ROOT}/${dir}/*.h)
+  foreach(f ${files})
+    file(STRINGS ${f} lines REGEX "^namespace plantar::")
+    foreach(line ${lines})
+      if(NOT line MATCHES "^namespace plantar::${dir}([ :{]|$)" AND NOT line MATCHES
+                                                                    "^namespace plantar::walking")
+        string(APPEND bad "${f}: '${line}' is not in namespace plantar::${dir}\n")
+      endif()
+    endforeach()
+  endforeach()
 endforeach()
 if(bad)
   message(FATAL_ERROR "layering violations:\n${bad}")

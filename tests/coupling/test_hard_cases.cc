@@ -280,17 +280,17 @@ TEST_F(HardCases, PoissonRatioUpToNearlyIncompressible) {
   const double weight = mass * g;
   struct Row {
     double nu;
-    ContactSolverType solver;
+    contact::ContactSolverType solver;
     int iterations;
     bool converges;
   };
-  const Row rows[] = {{0.3, ContactSolverType::admm, 500, true},
-                      {0.3, ContactSolverType::gauss_seidel, 500, true},
-                      {0.49, ContactSolverType::admm, 500, false},
-                      {0.49, ContactSolverType::admm, 2000, true},
-                      {0.49, ContactSolverType::gauss_seidel, 500, true},
-                      {0.4999, ContactSolverType::admm, 2000, true},
-                      {0.4999, ContactSolverType::gauss_seidel, 500, false}};
+  const Row rows[] = {{0.3, contact::ContactSolverType::admm, 500, true},
+                      {0.3, contact::ContactSolverType::gauss_seidel, 500, true},
+                      {0.49, contact::ContactSolverType::admm, 500, false},
+                      {0.49, contact::ContactSolverType::admm, 2000, true},
+                      {0.49, contact::ContactSolverType::gauss_seidel, 500, true},
+                      {0.4999, contact::ContactSolverType::admm, 2000, true},
+                      {0.4999, contact::ContactSolverType::gauss_seidel, 500, false}};
   print_header();
   double sink_03 = 0;
   Sole sole;
@@ -304,7 +304,7 @@ TEST_F(HardCases, PoissonRatioUpToNearlyIncompressible) {
     const Outcome o = simulate(*model_, sole, c);
     char name[64];
     std::snprintf(name, sizeof name, "nu = %g %s %d", row.nu,
-                  row.solver == ContactSolverType::admm ? "ADMM" : "GS", row.iterations);
+                  row.solver == contact::ContactSolverType::admm ? "ADMM" : "GS", row.iterations);
     print_row(name, o, punch, weight);
     if (row.converges) {
       expect_stable_and_settled(o, punch, weight, name);
@@ -450,13 +450,13 @@ TEST_F(HardCases, FootLandingOnItsEdge) {
   const double weight = mass * g;
   const Punch punch = punch_sinks(sole_->compliance, weight);
   struct Row {
-    ContactSolverType solver;
+    contact::ContactSolverType solver;
     double roll;
   };
-  const Row rows[] = {{ContactSolverType::gauss_seidel, 0.1},
-                      {ContactSolverType::gauss_seidel, 0.35},
-                      {ContactSolverType::gauss_seidel, 0.7},
-                      {ContactSolverType::admm, 0.35}};
+  const Row rows[] = {{contact::ContactSolverType::gauss_seidel, 0.1},
+                      {contact::ContactSolverType::gauss_seidel, 0.35},
+                      {contact::ContactSolverType::gauss_seidel, 0.7},
+                      {contact::ContactSolverType::admm, 0.35}};
   print_header();
   for (const Row& row : rows) {
     Case c;
@@ -464,11 +464,11 @@ TEST_F(HardCases, FootLandingOnItsEdge) {
     c.drop = 0.02;
     c.duration = 1.2;
     c.parameters.solver.solver = row.solver;
-    c.parameters.solver.max_iterations = row.solver == ContactSolverType::admm ? 2000 : 500;
+    c.parameters.solver.max_iterations = row.solver == contact::ContactSolverType::admm ? 2000 : 500;
     const Outcome o = simulate(*model_, *sole_, c);
     char name[64];
     std::snprintf(name, sizeof name, "edge %.0f deg, %s", row.roll * 180 / M_PI,
-                  row.solver == ContactSolverType::admm ? "ADMM" : "GS");
+                  row.solver == contact::ContactSolverType::admm ? "ADMM" : "GS");
     print_row(name, o, punch, weight);
     std::printf("   max residual %.2e m/s; final tilt %.2e rad, horizontal position (%.2e, %.2e) "
                 "m\n",
@@ -530,7 +530,7 @@ TEST_F(HardCases, ManyRedundantContacts) {
   const Sole fine = make_sole(0.3, 21, 13);
   const Punch punch = punch_sinks(fine.compliance, weight);
   print_header();
-  for (const auto solver : {ContactSolverType::admm, ContactSolverType::gauss_seidel})
+  for (const auto solver : {contact::ContactSolverType::admm, contact::ContactSolverType::gauss_seidel})
     for (const bool rigid : {false, true}) {
       Case c;
       c.rigid = rigid;
@@ -538,7 +538,7 @@ TEST_F(HardCases, ManyRedundantContacts) {
       c.parameters.solver.max_iterations = 2000;
       const Outcome o = simulate(*model_, fine, c);
       const std::string name = std::string(rigid ? "rigid 308 pts, " : "sole 308 nodes, ") +
-                               (solver == ContactSolverType::admm ? "ADMM" : "GS");
+                               (solver == contact::ContactSolverType::admm ? "ADMM" : "GS");
       print_row(name, o, rigid ? Punch{0, 0} : punch, weight);
       std::printf("   final horizontal drift (%.2e, %.2e) m, tilt %.2e rad\n", o.position.x(),
                   o.position.y(), o.roll);
@@ -557,7 +557,7 @@ TEST_F(HardCases, ManyRedundantContacts) {
 }
 
 TEST_F(HardCases, ImpossibleSolverSettingFailsCleanly) {
-  // One iteration cannot solve a 96-node landing: with throw_if_not_converged the step throws
+  // One iteration cannot solve a 96-node landing: with contact::throw_if_not_converged the step throws
   // naming the solver, status, iterations, residual and tolerance.
   Case c;
   c.parameters.solver.max_iterations = 1;

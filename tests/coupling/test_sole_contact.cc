@@ -1,6 +1,6 @@
 // A condensed FEM sole (coupling/condensed_sole) inside the frictional
 // contact solver (coupling/contact), with a rigid block on top
-// (tests/coupling/contact/rigid_body_harness):
+// (tests/contact/rigid_body_harness):
 // - pressed by its weight W: the total normal force is W, every node stays on
 //   the ground, and the sole displacements of the contact loop equal a direct
 //   FEM solve (UMFPACK, fem/) with the contact forces found (1e-8 relative);
@@ -12,7 +12,7 @@
 //   shears with the bonded-layer stiffness G A / t; without friction the
 //   block slides with a = F / m.
 #include "condensation_test_utilities.h"
-#include "contact/rigid_body_harness.h"
+#include "tests/contact/rigid_body_harness.h"
 #include "fem/linear_elasticity.h"
 
 #include <gtest/gtest.h>
@@ -40,11 +40,11 @@ struct Fixture {
 
 // The block with the sole's bottom nodes as its contact points; the patch
 // compliance in the ground frame (n = z, t1 = x, t2 = y).
-test::RigidWorld make_world(const CondensedSole& sole, double friction, double tangential_force) {
-  test::RigidWorld world;
-  test::RigidBody block;
+contact::test::RigidWorld make_world(const CondensedSole& sole, double friction, double tangential_force) {
+  contact::test::RigidWorld world;
+  contact::test::RigidBody block;
   block.mass = mass;
-  block.principal_inertia = test::box_inertia(mass, Eigen::Vector3d(L, W, block_height));
+  block.principal_inertia = contact::test::box_inertia(mass, Eigen::Vector3d(L, W, block_height));
   block.position = Eigen::Vector3d(0, 0, block_height / 2 + T);
   block.force = Eigen::Vector3d(tangential_force, 0, 0);
   world.bodies.push_back(block);
@@ -52,7 +52,7 @@ test::RigidWorld make_world(const CondensedSole& sole, double friction, double t
   Eigen::MatrixXd permutation = Eigen::MatrixXd::Zero(3 * n, 3 * n);
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d node = sole.contact_positions().row(k).transpose();
-    test::PointContact contact;
+    contact::test::PointContact contact;
     contact.point = Eigen::Vector3d(node.x(), node.y(), -block_height / 2 + node.z());
     contact.friction = friction;
     world.contacts.push_back(contact);
@@ -65,19 +65,19 @@ test::RigidWorld make_world(const CondensedSole& sole, double friction, double t
   world.settings.max_iterations = 2000;
   // ADMM stalls on the frictionless (mu = 0) dense patch; Gauss-Seidel holds.
   if (friction == 0.0)
-    world.settings.solver = ContactSolverType::gauss_seidel;
+    world.settings.solver = contact::ContactSolverType::gauss_seidel;
   world.finalize();
   return world;
 }
 
 // Runs to rest (or for the given time); returns the total contact impulse
 // per step in the ground frame (n, t1, t2) at the end.
-Eigen::Vector3d run(test::RigidWorld& world, double duration) {
+Eigen::Vector3d run(contact::test::RigidWorld& world, double duration) {
   Eigen::Vector3d total = Eigen::Vector3d::Zero();
   const int steps = static_cast<int>(duration / dt);
   for (int i = 0; i < steps; ++i) {
     const auto result = world.step(dt);
-    EXPECT_EQ(result.status, SolverStatus::converged) << "step " << i;
+    EXPECT_EQ(result.status, contact::SolverStatus::converged) << "step " << i;
   }
   for (std::size_t c = 0; c < world.contacts.size(); ++c)
     total += world.impulse(static_cast<int>(c));
@@ -86,7 +86,7 @@ Eigen::Vector3d run(test::RigidWorld& world, double duration) {
 
 // Mean displacement of the bottom nodes, sole frame (x, y, z), from the
 // patch displacement (n, t1, t2).
-Eigen::Vector3d mean_displacement(const test::RigidWorld& world, int n) {
+Eigen::Vector3d mean_displacement(const contact::test::RigidWorld& world, int n) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
   for (int k = 0; k < n; ++k)
     mean +=

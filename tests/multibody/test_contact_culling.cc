@@ -30,7 +30,7 @@ CullingRun simulate(double margin) {
   StepperParameters parameters;
   parameters.time_step = 1e-3;
   parameters.contact_margin = margin;
-  parameters.solver.solver = coupling::ContactSolverType::gauss_seidel;
+  parameters.solver.solver = contact::ContactSolverType::gauss_seidel;
   parameters.solver.tolerance = 1e-12;
   Stepper stepper(model, parameters);
   Eigen::Matrix3Xd low(3, 4), high(3, 4);

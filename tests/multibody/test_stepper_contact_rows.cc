@@ -174,7 +174,7 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
     const Eigen::VectorXd u_prev = stepper.patch_displacement(0);
     stepper.step(q, v, tau, q_ref, v_ref);
     reference(q0, v0);
-    const coupling::ContactProblem& problem = stepper.problem();
+    const contact::ContactProblem& problem = stepper.problem();
     ASSERT_EQ(problem.n_contacts, n);
     Eigen::VectorXd vc = jc * v_free;
     vc.head(36) -= u_prev / dt; // deformation-rate term of the patch (eq. 12)
@@ -198,7 +198,7 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
                 static_cast<int>(problem.rigid_factor.cols()), static_cast<int>(g.cols()));
     EXPECT_EQ(problem.rigid_factor.cols(), 18); // 6 per contact body (patch, left foot, hand)
     // The patch's factored rows (I (x) a) Lambda T (the direct solve's structure).
-    const coupling::CompliantPatch& patch = problem.patches[0];
+    const contact::CompliantPatch& patch = problem.patches[0];
     ASSERT_TRUE(patch.sticking_version > 0 && patch.lever_map_valid);
     const Eigen::MatrixXd factored = patch.lever * patch.lever_map;
     Eigen::MatrixXd factored_contact(36, factored.cols());

@@ -108,7 +108,7 @@ Bounce run_bounce(double theta, double dt, double beta, double v0, double c) {
   StepperParameters parameters;
   parameters.time_step = dt;
   parameters.theta = theta;
-  parameters.solver.solver = coupling::ContactSolverType::gauss_seidel;
+  parameters.solver.solver = contact::ContactSolverType::gauss_seidel;
   parameters.solver.tolerance = 1e-12;
   parameters.solver.max_iterations = 1000;
   Stepper stepper(model, parameters);

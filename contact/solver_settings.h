@@ -1,0 +1,105 @@
+#pragma once
+// Settings and result of a frictional contact solve (plain structs).
+
+#include <string>
+
+namespace plantar::contact {
+
+enum class ContactSolverType {
+  gauss_seidel, ///< nonsmooth Gauss-Seidel, exact 3x3 local solves (baseline)
+  admm,         ///< ADMM with proximal term and adaptive rho (dense/coupled, ill-conditioned cases)
+};
+
+struct SolverSettings {
+  ContactSolverType solver = ContactSolverType::admm;
+  /// Stop when the natural-map residual (m/s, max over contacts) is <= this. Range (0, inf).
+  double tolerance = 1e-9;
+  /// Sweeps (Gauss-Seidel) or iterations (ADMM). Range [1, inf).
+  int max_iterations = 500;
+  /// Start from the impulses passed in (projected onto the cones) instead of zero.
+  bool warm_start = true;
+  /// Gauss-Seidel: enumerate every solution of each local problem (LocalSearch::all, about
+  /// 1 us per contact and sweep) so that non-unique ones are counted; false: only the
+  /// preferred solution (LocalSearch::first, tens of ns), non-uniqueness not detected.
+  bool enumerate_local_solutions = false;
+  /// Gauss-Seidel: a contact whose natural-map residual at its turn in a sweep is <=
+  /// sweep_skip * tolerance keeps its impulse for that sweep (no local solve, no column
+  /// update); the stopping test still asks every contact for <= tolerance. 0 updates every
+  /// contact. Range [0, 1).
+  double sweep_skip = 0.0;
+  /// Before iterating, solve directly on the warm start's prediction: contacts with p_n > 0
+  /// strictly inside the cone sticking, those on the cone held at their impulse (sliding), the
+  /// others separated (p = 0). Needs every contact on a patch with the sticking structure
+  /// (CompliantPatch::lever, lever_map_valid, sticking_version). W_AA p_A = -(v_free + b e_n +
+  /// W_AS p_S)_A by Woodbury over the kept Cholesky factors of the active sole blocks (updated
+  /// node by node when the set changes); the result is kept when it lies in the cones and
+  /// meets the tolerance (then it is an exact solution), else the iterative solver starts from
+  /// it, projected onto the cones.
+  bool sticking_direct = true;
+  /// ADMM: initial rho = rho_scale * mean diagonal of W. Range (0, inf).
+  double rho_scale = 1.0;
+  /// ADMM: proximal weight eta = proximal_scale * mean diagonal of W. Range [0, inf).
+  double proximal_scale = 1e-6;
+  /// ADMM: rho is reconsidered every this many iterations (needs a refactorisation). Range [1,
+  /// inf).
+  int rho_update_interval = 8;
+  /// ADMM: rho changes when the primal and dual residuals differ by more than this ratio. Range (1,
+  /// inf).
+  double rho_update_ratio = 5.0;
+  /// ADMM: at most this many factorisations per solve. Range [1, inf).
+  int max_factorizations = 60;
+  /// ADMM: start from the previous solve's final rho (lets the patch factorisation be reused).
+  bool warm_rho = true;
+
+  /// Throws std::invalid_argument naming the field, its value and the allowed range.
+  void validate() const;
+};
+
+enum class SolverStatus {
+  converged,      ///< residual <= tolerance
+  max_iterations, ///< stopped at max_iterations with residual > tolerance
+  non_finite,     ///< NaN or Inf appeared; impulses are reset to zero
+};
+
+/// What became of the direct solve on the warm start's active set (SolverSettings::
+/// sticking_direct) in one solve.
+enum class DirectAttempt {
+  not_tried,        ///< off, no warm start, no patch structure, or no contact predicted sticking
+  accepted,         ///< its candidate is the solution (SolverResult::direct)
+  refused_cone,     ///< a contact predicted sticking left its cone: the iteration went on
+  refused_residual, ///< all in their cones, but the residual was above the tolerance
+  failed,           ///< C_AA or the capacitance not positive definite, or a non-finite candidate
+};
+
+struct SolverResult {
+  SolverStatus status = SolverStatus::max_iterations;
+  int iterations = 0;
+  /// Natural-map (De Saxce) complementarity residual, max over contacts, m/s.
+  double residual = 0.0;
+  /// Gauss-Seidel: contacts whose last local problem had several solutions
+  /// (indeterminate, e.g. Painleve; counted only with enumerate_local_solutions) or none
+  /// (then a projection step was used).
+  int n_nonunique_local = 0;
+  int n_failed_local = 0;
+  /// ADMM: factorisations done and final rho (m/(N s^2)).
+  int n_factorizations = 0;
+  double rho = 0.0;
+  /// The solution came from the direct solve on the warm start's active set (iterations = 0).
+  bool direct = false;
+  DirectAttempt direct_attempt = DirectAttempt::not_tried;
+  /// Gauss-Seidel: exact local solves done, summed over the sweeps (contacts left by the sweep
+  /// skip not counted).
+  int n_local_solves = 0;
+  bool converged() const { return status == SolverStatus::converged; }
+};
+
+const char* to_string(SolverStatus status);
+const char* to_string(ContactSolverType type);
+const char* to_string(DirectAttempt attempt);
+
+/// Throws std::runtime_error with solver, status, iterations, residual and
+/// tolerance unless @p result converged. @p context names the caller (e.g. "step 120").
+void throw_if_not_converged(const SolverResult& result, const SolverSettings& settings,
+                            const std::string& context);
+
+} // namespace plantar::contact

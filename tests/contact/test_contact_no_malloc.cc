@@ -1,0 +1,106 @@
+// No heap allocation in the per-step functions once the workspaces are sized
+// (Eigen's malloc guard). This executable compiles the plantar_contact sources
+// itself with EIGEN_RUNTIME_NO_MALLOC and assertions on (see CMakeLists.txt),
+// so an allocation anywhere inside them aborts the test.
+#include "contact/compliance_terms.h"
+#include "contact/contact_solver.h"
+#include "contact/position_correction.h"
+#include "tests/contact/random_problem.h"
+#include "tests/contact/sticking_problem.h"
+
+#include <cstdio>
+#include <gtest/gtest.h>
+
+#ifndef EIGEN_RUNTIME_NO_MALLOC
+#error "this test needs EIGEN_RUNTIME_NO_MALLOC"
+#endif
+
+namespace pc = plantar::contact;
+
+TEST(ContactNoMalloc, SolveAndHelpersDoNotAllocate) {
+  const int max_contacts = 60, m = 12;
+  // Largest problem first to size patch matrices, then smaller ones reuse them.
+  pc::ContactProblem problem =
+      plantar::contact::test::random_problem(max_contacts, m, max_contacts, 0.5, 7);
+  pc::ContactSolver solver(max_contacts, m);
+  Eigen::VectorXd impulses = Eigen::VectorXd::Zero(3 * max_contacts);
+  Eigen::VectorXd work(m), out(3 * max_contacts), displacement(3 * max_contacts);
+  const Eigen::MatrixXd compliance = problem.patches[0].compliance_over_dt * 1e-6;
+  pc::NormalBiasParameters bias;
+  int n_solves = 0;
+  for (const int n : {60, 45, 20}) {
+    problem.n_contacts = n;
+    problem.patches[0].n_contacts = n;
+    // Shrinking the patch: keep the leading block (done outside the guard).
+    const int size = 3 * problem.patches[0].n_contacts;
+    Eigen::MatrixXd patch = compliance.topLeftCorner(size, size) * 1e6;
+    problem.patches[0].compliance_over_dt = patch;
+    const Eigen::MatrixXd patch_compliance = patch * 1e-6; // C (m/N) for dt = 1e-3
+    for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm})
+      for (const bool warm : {false, true}) {
+        pc::SolverSettings settings;
+        settings.solver = type;
+        settings.warm_start = warm;
+        settings.max_iterations = 3000;
+        Eigen::internal::set_is_malloc_allowed(false);
+        const pc::SolverResult r = solver.solve(problem, settings, impulses);
+        problem.apply_delassus(impulses, work, out);
+        const double b = pc::normal_bias(-1e-4, -0.3, 1e-3, bias);
+        pc::set_patch_compliance(problem.patches[0], patch_compliance, 1e-3); // same size: no alloc
+        pc::patch_displacement(problem.patches[0], impulses, 1e-3, displacement);
+        pc::add_deformation_rate_term(problem.patches[0], displacement.head(size), 1e-3, problem);
+        Eigen::internal::set_is_malloc_allowed(true);
+        ++n_solves;
+        std::printf("n = %d, %s, warm %d: status %s, %d iterations, residual %.2e (b = %.2f)\n", n,
+                    pc::to_string(type), warm, pc::to_string(r.status), r.iterations, r.residual,
+                    b);
+        EXPECT_TRUE(r.converged());
+      }
+  }
+  EXPECT_EQ(n_solves, 12);
+}
+
+TEST(ContactNoMalloc, LargePatchFactorisationDoesNotAllocate) {
+  // 250 contacts in one dense patch (750 x 750 factor): Eigen's blocked LLT
+  // would take heap scratch here; the solver's in-place Cholesky must not.
+  const int n = 250, m = 6;
+  pc::ContactProblem problem = plantar::contact::test::random_problem(n, m, n, 0.5, 3);
+  pc::ContactSolver solver(n, m);
+  Eigen::VectorXd impulses = Eigen::VectorXd::Zero(3 * n);
+  for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm}) {
+    pc::SolverSettings settings;
+    settings.solver = type;
+    settings.max_iterations = 20;
+    settings.rho_update_interval = 2; // force refactorisations
+    Eigen::internal::set_is_malloc_allowed(false);
+    const pc::SolverResult r = solver.solve(problem, settings, impulses);
+    Eigen::internal::set_is_malloc_allowed(true);
+    std::printf("n = %d, %s: status %s after %d iterations, residual %.2e, %d factorisations\n", n,
+                pc::to_string(type), pc::to_string(r.status), r.iterations, r.residual,
+                r.n_factorizations);
+    EXPECT_NE(r.status, pc::SolverStatus::non_finite);
+  }
+}
+
+TEST(ContactNoMalloc, StickingDirectSolveDoesNotAllocate) {
+  // Two soles of 40 nodes, every contact sticking: the direct solve (accepted) and a refused
+  // one (contact 3 outside its cone), both under the guard.
+  const int n_nodes = 40, m = 12, n = 2 * n_nodes;
+  pc::ContactSolver solver(n, m);
+  for (const int outside : {-1, 3}) {
+    const auto fixture =
+        plantar::contact::test::sticking_problem(n_nodes, m, 1.0, 0.5, outside, 4);
+    Eigen::VectorXd impulses = 0.9 * fixture.solution;
+    impulses.segment<2>(3 * 3 + 1) *= 0.3;
+    pc::SolverSettings settings;
+    settings.solver = pc::ContactSolverType::gauss_seidel;
+    settings.max_iterations = 3000;
+    Eigen::internal::set_is_malloc_allowed(false);
+    const pc::SolverResult r = solver.solve(fixture.problem, settings, impulses);
+    Eigen::internal::set_is_malloc_allowed(true);
+    std::printf("sticking, contact %d outside: direct %d, %d sweeps, residual %.2e\n", outside,
+                r.direct, r.iterations, r.residual);
+    EXPECT_EQ(r.direct, outside < 0);
+    EXPECT_TRUE(r.converged());
+  }
+}
