@@ -1,8 +1,10 @@
 #include "apps/humanoid_simulation.h"
 
+#include "contact/ground_frame.h"
 #include "coupling/condensed_sole.h"
 #include "coupling/contact_frame_compliance.h"
 #include "coupling/nonlinear_condensed_sole.h"
+#include "coupling/pad_state.h"
 #include "coupling/reduced_sole.h"
 #include "fem/hyperelastic_material_table.h"
 #include "fem/material_table.h"
@@ -255,8 +257,9 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
       Eigen::MatrixXd compliance(3 * n, 3 * n);
       coupling::rotate_compliance_to_contact_frames(sole_compliance, frame.placement.rotation,
                                                     identity_frames, compliance);
-      const int patch = stepper_->add_compliant_patch(frame.body, body_nodes, compliance, mu);
-      stepper_->set_patch_damping(patch, scene_.sole.damping_time);
+      pads_[foot] = std::make_unique<coupling::PadState>(compliance);
+      const int patch = stepper_->add_deformable_patch(frame.body, body_nodes, mu, *pads_[foot]);
+      pads_[foot]->set_damping(scene_.sole.damping_time);
       for (int k = 0; k < n; ++k)
         feet_[foot].push_back({k, patch, frame.body, body_nodes.col(k)});
     } else {
@@ -367,11 +370,9 @@ void HumanoidSimulation::update_hyperelastic_soles() {
     // Node forces in the sole frame: contact frame (n, t1, t2) = world (z, x, y) -> body -> sole.
     const Eigen::Matrix3d world_to_sole =
         frame.placement.rotation.transpose() * data_.oMi[frame.body].rotation.transpose();
-    int patch = -1;
     for (const FootContact& c : feet_[foot]) {
-      const Eigen::Vector3d f = stepper_->node_force(c.patch, c.point); // F at the step's end
-      sole_forces_.segment<3>(3 * c.point) = world_to_sole * Eigen::Vector3d(f[1], f[2], f[0]);
-      patch = c.patch;
+      const Eigen::Vector3d f = pads_[foot]->node_force(c.point); // F at the step's end
+      sole_forces_.segment<3>(3 * c.point) = world_to_sole * contact::ground_to_world(f);
     }
     coupling::NonlinearUpdateReport report;
     try {
@@ -389,7 +390,7 @@ void HumanoidSimulation::update_hyperelastic_soles() {
           sole_compliance_.block<3, 3>(3 * i, 3 * j) =
               r * sole.compliance().block<3, 3>(3 * i, 3 * j) * r.transpose();
       }
-      stepper_->set_patch_compliance(patch, sole_compliance_, sole_offset_);
+      pads_[foot]->set_compliance(sole_compliance_, sole_offset_);
     }
   }
   summary_.sole_newton_checks = hyperelastic_[0]->n_checks() + hyperelastic_[1]->n_checks();
@@ -492,16 +493,16 @@ void HumanoidSimulation::step() {
     for (const FootContact& c : feet_[foot]) {
       // Sole nodes: the force at the step's end; points: the step's impulse / dt.
       const Eigen::Vector3d p = c.patch >= 0
-                                    ? Eigen::Vector3d(stepper_->node_force(c.patch, c.point))
+                                    ? pads_[foot]->node_force(c.point)
                                     : Eigen::Vector3d(stepper_->point_impulse(c.point) / dt);
-      const Eigen::Vector3d f(p[1], p[2], p[0]); // (n, t1, t2) -> (x, y, z)
+      const Eigen::Vector3d f = contact::ground_to_world(p);
       const Eigen::Vector3d x = data_.oMi[c.body].act_point(c.position);
       force[foot] += f;
       moment[foot].x() += f.z() * x.x();
       moment[foot].y() += f.z() * x.y();
       double z = x.z();
       if (c.patch >= 0)
-        z += stepper_->patch_displacement(c.patch)[3 * c.point];
+        z += pads_[foot]->displacement()[3 * c.point];
       summary_.max_penetration = std::max(summary_.max_penetration, -z);
     }
   }

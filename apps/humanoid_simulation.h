@@ -37,6 +37,7 @@
 namespace plantar::coupling {
 class CondensedSole;
 class NonlinearCondensedSole;
+class PadState;
 } // namespace plantar::coupling
 
 namespace plantar::app {
@@ -121,6 +122,9 @@ public:
   const coupling::NonlinearCondensedSole* hyperelastic_sole(int foot) const {
     return hyperelastic_[foot].get();
   }
+  /// The pad state (node forces, displacements) of foot @p foot (0 right, 1 left) for fem sole
+  /// (linear or hyperelastic), else nullptr.
+  const coupling::PadState* pad(int foot) const { return pads_[foot].get(); }
   /// Stepper patch of foot @p foot (0 right, 1 left) for fem sole (linear or hyperelastic),
   /// else -1.
   int sole_patch(int foot) const {
@@ -161,6 +165,7 @@ private:
   walking::JointReference reference_;
   std::unique_ptr<coupling::CondensedSole> sole_;
   std::array<std::unique_ptr<coupling::NonlinearCondensedSole>, 2> hyperelastic_; ///< or null
+  std::array<std::unique_ptr<coupling::PadState>, 2> pads_; ///< fem sole; outlive the stepper
   std::unique_ptr<multibody::Stepper> stepper_;
   multibody::Data data_;
   std::array<std::vector<FootContact>, 2> feet_; ///< right, left

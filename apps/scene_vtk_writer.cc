@@ -1,7 +1,9 @@
 #include "apps/scene_vtk_writer.h"
 
+#include "contact/ground_frame.h"
 #include "coupling/condensed_sole.h"
 #include "coupling/nonlinear_condensed_sole.h"
+#include "coupling/pad_state.h"
 #include "fem/atomic_file.h"
 #include "fem/field_output.h"
 #include "multibody/kinematics.h"
@@ -214,21 +216,19 @@ void SceneVtkWriter::write_sole(const HumanoidSimulation& simulation, int foot,
                                 const std::filesystem::path& path) {
   const coupling::CondensedSole* linear = simulation.sole();
   const coupling::NonlinearCondensedSole* hyper = simulation.hyperelastic_sole(foot);
-  const multibody::Stepper& stepper = simulation.stepper();
-  const int patch = simulation.sole_patch(foot);
+  const coupling::PadState& pad = *simulation.pad(foot);
   const multibody::SE3 placement =
       multibody::frame_placement(simulation.model(), data_, simulation.sole_frame(foot));
-  const Eigen::Matrix3d& rotation = placement.rotation;                 // sole -> world
-  const Eigen::VectorXd& u_contact = stepper.patch_displacement(patch); // (n, t1, t2) = (z, x, y)
+  const Eigen::Matrix3d& rotation = placement.rotation;  // sole -> world
+  const Eigen::VectorXd& u_contact = pad.displacement(); // (n, t1, t2) per node
   const auto& dofs = linear ? linear->contact_dofs() : hyper->sole().contact_dofs();
   const int n_c = static_cast<int>(dofs.size());
   contact_displacement_ = 0;
   force_ = 0;
   pressure_ = 0;
   for (int k = 0; k < n_c; ++k) {
-    const Eigen::Vector3d u(u_contact[3 * k + 1], u_contact[3 * k + 2], u_contact[3 * k]);
-    const Eigen::Vector3d p = stepper.node_force(patch, k); // F at the step's end, U = C F
-    const Eigen::Vector3d f(p[1], p[2], p[0]);
+    const Eigen::Vector3d u = contact::ground_to_world(u_contact.segment<3>(3 * k));
+    const Eigen::Vector3d f = contact::ground_to_world(pad.node_force(k)); // at the step's end
     contact_u_.segment<3>(3 * k) = rotation.transpose() * u;
     for (int d = 0; d < 3; ++d) {
       contact_displacement_[dofs[k][d]] = u[d];

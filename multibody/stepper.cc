@@ -1,6 +1,7 @@
 #include "multibody/stepper.h"
 
 #include "contact/compliance_terms.h"
+#include "contact/ground_frame.h"
 #include "multibody/configuration.h"
 #include "multibody/crba.h"
 #include "multibody/jacobian.h"
@@ -16,12 +17,6 @@
 namespace plantar::multibody {
 
 namespace {
-/// Rows of the ground contact frame in world coordinates: n = +z, t1 = +x, t2 = +y.
-Eigen::Matrix3d ground_frame_transpose() {
-  Eigen::Matrix3d rt;
-  rt << 0, 0, 1, 1, 0, 0, 0, 1, 0;
-  return rt;
-}
 /// Velocity (n, t1, t2) = R_c^T [I, -[r]x] twist of the point at lever r of a body with
 /// origin twist (v_o, w) (world).
 Eigen::Vector3d point_velocity(const Vector6d& t, const Eigen::Vector3d& r) {
@@ -135,25 +130,19 @@ int Stepper::add_contact_point(int body, const Eigen::Vector3d& position, double
   return static_cast<int>(points_.size()) - n_patch_points_ - 1;
 }
 
-int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
-                                 const Eigen::MatrixXd& compliance, double friction) {
+int Stepper::add_deformable_patch(int body, const Eigen::Matrix3Xd& nodes, double friction,
+                                  contact::DeformablePatch& patch) {
   const int n = static_cast<int>(nodes.cols());
-  if (body < 0 || body >= model_.n_bodies || n == 0 || compliance.rows() != 3 * n ||
-      compliance.cols() != 3 * n || !compliance.allFinite() || !(friction >= 0.0)) {
+  if (body < 0 || body >= model_.n_bodies || n == 0 || patch.n_nodes() != n || !(friction >= 0.0)) {
     std::ostringstream msg;
-    msg << "Stepper::add_compliant_patch: body " << body << " (allowed [0, " << model_.n_bodies
-        << ")), " << n << " nodes (allowed >= 1), compliance " << compliance.rows() << "x"
-        << compliance.cols() << " (expected " << 3 * n << " square, finite), friction " << friction
-        << " (allowed [0, inf))";
+    msg << "Stepper::add_deformable_patch: body " << body << " (allowed [0, " << model_.n_bodies
+        << ")), " << n << " nodes (allowed >= 1, the patch's " << patch.n_nodes() << "), friction "
+        << friction << " (allowed [0, inf))";
     throw std::invalid_argument(msg.str());
-  }
-  if ((compliance - compliance.transpose()).cwiseAbs().maxCoeff() >
-      1e-9 * compliance.cwiseAbs().maxCoeff()) {
-    throw std::invalid_argument("Stepper::add_compliant_patch: compliance is not symmetric");
   }
   if (static_cast<int>(points_.size()) + n > parameters_.max_contacts) {
     throw std::invalid_argument(
-        "Stepper::add_compliant_patch: " + std::to_string(n) +
+        "Stepper::add_deformable_patch: " + std::to_string(n) +
         " more nodes exceed max_contacts = " + std::to_string(parameters_.max_contacts));
   }
   // Patch nodes go before the free points, after the previous patches' nodes.
@@ -164,36 +153,17 @@ int Stepper::add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
   points_.insert(points_.begin() + n_patch_points_, nodes_as_points.begin(), nodes_as_points.end());
   // first_point of later patches cannot change: patches are appended in order.
   point_impulse_.insert(point_impulse_.begin() + n_patch_points_, n, Eigen::Vector3d::Zero());
-  Patch patch{body,
-              nodes,
-              compliance,
-              friction,
-              n_patch_points_,
-              Eigen::VectorXd::Zero(3 * n),
-              compliance / std::pow(parameters_.theta * parameters_.time_step, 2),
-              Eigen::VectorXd::Zero(3 * n),
-              Eigen::VectorXd::Zero(3 * n),
-              false,
-              Eigen::Matrix3d::Identity(),
-              Eigen::VectorXd::Zero(3 * n),
-              Eigen::VectorXd::Zero(3 * n),
-              false,
-              0,
-              Eigen::VectorXd::Zero(3 * n),
-              false,
-              0.0,
-              Eigen::VectorXd::Zero(3 * n),
-              Eigen::VectorXd::Zero(3 * n)};
+  patches_.push_back(Patch{body, nodes, n_patch_points_, &patch});
   n_patch_points_ += n;
   add_body_slot(body);
-  patches_.push_back(std::move(patch));
   problem_.patches.push_back(contact::CompliantPatch{});
-  problem_.patches.back().warm_product.setZero(3 * n);
   // The patch's rigid rows are (I (x) a) Lambda T with Lambda's node rows [I, -[rho]x] (body
   // frame) and T = blockdiag(R_b^T, R_b^T) H_b: the structure of the direct sticking solve.
   contact::set_sticking_structure(problem_.patches.back(), contact::rigid_lever(nodes));
+  const int index = static_cast<int>(patches_.size()) - 1;
+  patch.attach(problem_, index, parameters_.time_step, parameters_.theta);
   resize_workspaces();
-  return static_cast<int>(patches_.size()) - 1;
+  return index;
 }
 
 double Stepper::evaluate_candidate(int point, double extra_gap) {
@@ -227,27 +197,6 @@ void Stepper::fill_contact_rows(int k, int point) {
     gc[2] = hc[1] - r.z() * hc[3] + r.x() * hc[5];
   }
   problem_.free_velocity.segment<3>(3 * k) = point_velocity(slot_free_velocity_[s], r);
-}
-
-void Stepper::update_patch_rotation(Patch& patch, contact::CompliantPatch& target) {
-  const Eigen::Matrix3d a = ground_frame_transpose() * data_.oMi[patch.body].rotation;
-  const int n_nodes = static_cast<int>(patch.nodes.cols());
-  if (patch.has_last_solve) {
-    // Warm start: the last impulses carried with the body, p0 = a p_patch, whose patch-frame
-    // product is the one kept. (Extrapolating p0 linearly from the last two solves cuts the
-    // sweeps but, at loose tolerances, biases every solve forward: the open-loop walk fell.)
-    for (int k = 0; k < n_nodes; ++k) {
-      point_impulse_[patch.first_point + k].noalias() = a * patch.impulse.segment<3>(3 * k);
-    }
-    target.warm_product = patch.product; // same size: no allocation
-  }
-  if (patch.has_offset) {
-    for (int k = 0; k < n_nodes; ++k) {
-      patch.offset_contact.segment<3>(3 * k).noalias() = a * patch.offset.segment<3>(3 * k);
-    }
-  }
-  patch.rotation = a;
-  target.rotation = a;
 }
 
 void Stepper::reduce_rigid_factor() {
@@ -285,79 +234,10 @@ void Stepper::reduce_rigid_factor() {
   }
 }
 
-void Stepper::set_patch_compliance(int patch, const Eigen::Ref<const Eigen::MatrixXd>& compliance,
-                                   const Eigen::Ref<const Eigen::VectorXd>& offset) {
-  if (patch < 0 || patch >= static_cast<int>(patches_.size())) {
-    throw std::invalid_argument("Stepper::set_patch_compliance: patch " + std::to_string(patch) +
-                                ", allowed [0, " + std::to_string(patches_.size()) + ")");
-  }
-  Patch& target = patches_[patch];
-  const int size = static_cast<int>(target.compliance.rows());
-  if (compliance.rows() != size || compliance.cols() != size || offset.size() != size ||
-      !compliance.allFinite() || !offset.allFinite()) {
-    std::ostringstream msg;
-    msg << "Stepper::set_patch_compliance: patch " << patch << ": compliance " << compliance.rows()
-        << "x" << compliance.cols() << " and offset " << offset.size() << " (expected " << size
-        << "x" << size << " and " << size << ", finite)";
-    throw std::invalid_argument(msg.str());
-  }
-  double asymmetry = 0, largest = 0;
-  for (int i = 0; i < size; ++i) {
-    for (int j = 0; j < i; ++j) {
-      asymmetry = std::max(asymmetry, std::abs(compliance(i, j) - compliance(j, i)));
-    }
-    for (int j = 0; j < size; ++j) {
-      largest = std::max(largest, std::abs(compliance(i, j)));
-    }
-  }
-  if (asymmetry > 1e-9 * largest) {
-    throw std::invalid_argument("Stepper::set_patch_compliance: compliance is not symmetric");
-  }
-  if (target.damping > 0.0 && !offset.isZero(0.0)) {
-    throw std::invalid_argument("Stepper::set_patch_compliance: patch " + std::to_string(patch) +
-                                " is damped (set_patch_damping): an offset d is not supported");
-  }
-  target.compliance = compliance;
-  target.offset = offset;
-  target.has_offset = !offset.isZero(0.0);
-  set_patch_block(patch);
-  if (target.has_offset) {
-    for (int k = 0; k < size / 3; ++k) {
-      target.offset_contact.segment<3>(3 * k).noalias() =
-          target.rotation * target.offset.segment<3>(3 * k);
-    }
-  }
-}
-
-void Stepper::set_patch_block(int patch) {
-  Patch& target = patches_[patch];
-  const double dt = parameters_.time_step;
-  const double theta = parameters_.theta;
-  const double a = theta / (target.damping / dt + theta);
-  Eigen::MatrixXd& held = problem_.patches[patch].compliance_over_dt.size() != 0
-                              ? problem_.patches[patch].compliance_over_dt
-                              : target.parked;
-  held = target.compliance * (a / ((theta * dt) * (theta * dt)));
-  contact::set_sticking_structure(problem_.patches[patch], problem_.patches[patch].lever);
-  target.has_last_solve = false;
-}
-
-void Stepper::set_patch_damping(int patch, double beta) {
-  if (patch < 0 || patch >= static_cast<int>(patches_.size())) {
-    throw std::invalid_argument("Stepper::set_patch_damping: patch " + std::to_string(patch) +
-                                ", allowed [0, " + std::to_string(patches_.size()) + ")");
-  }
-  if (!(beta >= 0.0) || !std::isfinite(beta)) {
-    std::ostringstream msg;
-    msg << "Stepper::set_patch_damping: beta = " << beta << " s, allowed [0, inf)";
-    throw std::invalid_argument(msg.str());
-  }
-  if (beta > 0.0 && patches_[patch].has_offset) {
-    throw std::invalid_argument("Stepper::set_patch_damping: patch " + std::to_string(patch) +
-                                " has an offset d (affine sole): damping is not supported");
-  }
-  patches_[patch].damping = beta;
-  set_patch_block(patch);
+void Stepper::lap(double& bucket) {
+  const auto now = std::chrono::steady_clock::now();
+  bucket += std::chrono::duration<double>(now - lap_start_).count();
+  lap_start_ = now;
 }
 
 StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> v,
@@ -370,19 +250,64 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   check_size(q_ref.size(), model_.nq, "Stepper::step: q_ref");
   check_size(v_ref.size(), model_.nv, "Stepper::step: v_ref");
   const double dt = parameters_.time_step;
-  const double theta = parameters_.theta;
-  const double theta_dt = theta * dt;
-  const double margin = parameters_.contact_margin;
   StepReport report;
-  using Clock = std::chrono::steady_clock;
-  auto lap_start = Clock::now();
-  auto lap = [&lap_start](double& bucket) {
-    const auto now = Clock::now();
-    bucket += std::chrono::duration<double>(now - lap_start).count();
-    lap_start = now;
-  };
+  lap_start_ = std::chrono::steady_clock::now();
   ++profile_.n_steps;
 
+  free_motion(q, v, tau, q_ref, v_ref);
+  lap(profile_.dynamics);
+  const int n = select_candidates();
+  report.n_contacts = n;
+  problem_.n_contacts = n;
+  if (n > 0) {
+    assemble(n, v);
+    report.solver = solver_.solve(problem_, parameters_.solver, impulses_);
+    lap(profile_.contact_solve);
+    ++profile_.n_solves;
+    profile_.n_solve_rows += 3 * n;
+    if (report.solver.status == contact::SolverStatus::non_finite) {
+      throw std::runtime_error("Stepper::step: the contact solver produced non-finite impulses "
+                               "with " +
+                               std::to_string(n) + " contacts");
+    }
+    if (parameters_.throw_if_not_converged) {
+      contact::throw_if_not_converged(report.solver, parameters_.solver, "Stepper::step");
+    }
+  } else {
+    report.solver.status = contact::SolverStatus::converged;
+  }
+  apply_impulses(n, v);
+  lap(profile_.dynamics);
+  // Impulses of the step: the patches' (their state renewed), then the free points'.
+  for (const Patch& patch : patches_) {
+    patch.state->finish_step(impulses_, solver_, report.solver, &point_impulse_[patch.first_point]);
+  }
+  for (int point = n_patch_points_; point < static_cast<int>(points_.size()); ++point) {
+    point_impulse_[point].setZero();
+  }
+  for (int k = 0; k < n; ++k) {
+    if (active_points_[k] >= n_patch_points_) {
+      point_impulse_[active_points_[k]] += impulses_.segment<3>(3 * k);
+    }
+  }
+  lap(profile_.sole_update);
+  if (!v.allFinite()) {
+    throw std::runtime_error(
+        "Stepper::step: non-finite velocity after the step (dt = " + std::to_string(dt) + " s)");
+  }
+  integrate(model_, q, v_mid_, dt, q);
+  lap(profile_.dynamics);
+  return report;
+}
+
+void Stepper::free_motion(const Eigen::Ref<const Eigen::VectorXd>& q,
+                          const Eigen::Ref<const Eigen::VectorXd>& v,
+                          const Eigen::Ref<const Eigen::VectorXd>& tau,
+                          const Eigen::Ref<const Eigen::VectorXd>& q_ref,
+                          const Eigen::Ref<const Eigen::VectorXd>& v_ref) {
+  const double dt = parameters_.time_step;
+  const double theta = parameters_.theta;
+  const double theta_dt = theta * dt;
   // Free motion with linear-implicit springs at theta: M_eff v_free = r.
   nonlinear_effects(model_, data_, q, v); // also fills liMi, oMi, v
   crba_from_placements(model_, data_);
@@ -411,7 +336,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       rhs_[iv] += dt * (spring + kd * (v_ref[iv] - v[iv]) - ds * v[iv]);
     }
   }
-  // The contact bodies' Jacobians; theta < 1: the sole forces of the last step's end act over
+  // The contact bodies' Jacobians; theta < 1: the patch forces of the last step's end act over
   // (1 - theta) of this step, a known generalized force J_b^T (f, r x f).
   for (std::size_t s = 0; s < slot_body_.size(); ++s) {
     body_origin_jacobian(model_, data_, slot_body_[s], slot_jacobian_[s]);
@@ -420,15 +345,15 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   }
   bool any_force = false;
   for (const Patch& patch : patches_) {
-    if (!patch.has_force || theta == 1.0) {
+    if (!patch.state->has_force() || theta == 1.0) {
       continue;
     }
     any_force = true;
     const SE3& placement = data_.oMi[patch.body];
     Vector6d& wrench = slot_impulse_[body_slot_[patch.body]];
+    const Eigen::VectorXd& force = patch.state->force();
     for (int k = 0; k < patch.nodes.cols(); ++k) {
-      const Eigen::Vector3d f = patch.force.segment<3>(3 * k);
-      const Eigen::Vector3d world(f[1], f[2], f[0]); // R_c f
+      const Eigen::Vector3d world = contact::ground_to_world(force.segment<3>(3 * k));
       const Eigen::Vector3d r = placement.rotation * patch.nodes.col(k);
       wrench.head<3>() += lag * world;
       wrench.tail<3>() += r.cross(lag * world);
@@ -456,55 +381,40 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
     v_free_ = rhs_;
     solve_effective_mass(v_free_);
   }
-  lap(profile_.dynamics);
+}
 
-  // Contact candidates: patches first (all nodes when any is active), then free points. Per
-  // body carrying candidates: J_b, J_b v and J_b v_free once.
+int Stepper::select_candidates() {
+  const double dt = parameters_.time_step;
+  const double margin = parameters_.contact_margin;
+  // Patches first (all nodes when any is active), then free points. Per body carrying
+  // candidates: J_b, J_b v and J_b v_free once.
   for (std::size_t s = 0; s < slot_body_.size(); ++s) {
     slot_free_velocity_[s].noalias() = slot_jacobian_[s] * v_free_;
     slot_factored_[s] = 0;
   }
   int n = 0;
   active_points_.clear();
-  for (std::size_t j = 0; j < patches_.size(); ++j) {
-    Patch& patch = patches_[j];
+  for (Patch& patch : patches_) {
+    contact::DeformablePatch& state = *patch.state;
     const int n_nodes = static_cast<int>(patch.nodes.cols());
+    const Eigen::VectorXd& displacement = state.displacement();
     bool any_active = false;
     for (int k = 0; k < n_nodes; ++k) {
       const int point = patch.first_point + k;
-      const double v_free_n = evaluate_candidate(point, patch.displacement[3 * k]);
+      const double v_free_n = evaluate_candidate(point, displacement[3 * k]);
       // With no impulse the node's deformation relaxes to the offset d within the step (the
       // -(U_prev - d)/dt term of eq. 12), so the node can touch iff the unloaded gap
       // g - U_prev + d does (d of the last step's frames).
-      const double unloaded_gap = gap_[point] - patch.displacement[3 * k] +
-                                  (patch.has_offset ? patch.offset_contact[3 * k] : 0.0);
-      any_active = any_active || unloaded_gap + dt * std::min(v_free_n, 0.0) <= margin;
+      any_active =
+          any_active || state.unloaded_gap(k, gap_[point]) + dt * std::min(v_free_n, 0.0) <= margin;
     }
-    contact::CompliantPatch& target = problem_.patches[j];
     if (!any_active) {
-      if (target.compliance_over_dt.size() != 0) {
-        target.compliance_over_dt.swap(patch.parked);
-      }
-      target.first_contact = n;
-      target.n_contacts = 0;
-      patch.displacement.setZero(); // a massless sole relaxes when lifted
-      patch.elastic.setZero();
-      patch.has_last_solve = false;
+      state.deactivate(n);
       continue;
     }
-    if (target.compliance_over_dt.size() == 0) {
-      target.compliance_over_dt.swap(patch.parked);
-    }
-    target.first_contact = n;
-    target.n_contacts = n_nodes;
     lap(profile_.contact_build);
-    update_patch_rotation(patch, target);
-    // The kept product C/dt^2 (I (x) a)^T p_prev is the solver's warm-start product, renewed
-    // from scratch after 50 sweeps of incremental updates (round-off).
-    target.warm_product_valid = patch.has_last_solve && patch.sweeps_since_fresh < 50;
-    if (!target.warm_product_valid) {
-      patch.sweeps_since_fresh = 0;
-    }
+    state.activate(n, contact::ground_frame_transpose() * data_.oMi[patch.body].rotation,
+                   &point_impulse_[patch.first_point]);
     lap(profile_.sole_update);
     for (int k = 0; k < n_nodes; ++k) {
       active_points_.push_back(patch.first_point + k);
@@ -518,180 +428,103 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
       ++n;
     }
   }
-  report.n_contacts = n;
-  problem_.n_contacts = n;
+  return n;
+}
 
-  if (n > 0) {
-    // L^-1 J_b^T once per body in contact; the reduced rigid factor over those bodies.
-    reduced_slots_.clear();
-    for (int k = 0; k < n; ++k) {
-      const int s = body_slot_[points_[active_points_[k]].body];
-      if (!slot_factored_[s]) {
-        slot_factor_[s] = slot_jacobian_[s].transpose();
-        effective_mass_.triangularView<Eigen::Lower>().solveInPlace(slot_factor_[s]);
-        slot_factor_t_[s] = slot_factor_[s].transpose();
-        slot_factored_[s] = 1;
-        reduced_slots_.push_back(s);
-      }
-    }
-    if (reduce_rigid_) {
-      reduce_rigid_factor();
-    }
-    // T = blockdiag(R_b^T, R_b^T) H_b of each patch in contact (CompliantPatch::lever_map).
-    for (std::size_t j = 0; j < patches_.size(); ++j) {
-      contact::CompliantPatch& target = problem_.patches[j];
-      target.lever_map_valid = target.n_contacts > 0;
-      if (target.lever_map_valid) {
-        const int s = body_slot_[patches_[j].body];
-        const Eigen::Matrix<double, 6, Eigen::Dynamic>& h =
-            reduce_rigid_ ? slot_reduced_[s] : slot_factor_t_[s];
-        const Eigen::Matrix3d& rotation = data_.oMi[patches_[j].body].rotation;
-        target.lever_map.topRows<3>().noalias() = rotation.transpose() * h.topRows<3>();
-        target.lever_map.bottomRows<3>().noalias() = rotation.transpose() * h.bottomRows<3>();
-      }
-    }
-    // G (3 n x rank), v_free,c, b, mu, warm start.
-    for (int k = 0; k < n; ++k) {
-      const int point = active_points_[k];
-      fill_contact_rows(k, point);
-      const double gap = gap_[point];
-      // An impact with restitution follows Newton's law alone (Moreau-Jean); otherwise a
-      // contact activated before touching may close its gap within the step, no more:
-      // normal_bias returns gap/dt for gap > 0 (adding it again let a landing sink by the gap).
-      // A sole node's velocity is (x+ - x) / (theta dt) = v+ + (1-theta)/theta v (theta-mixed
-      // position update), so its gap is closed over theta dt.
-      const bool node = point < n_patch_points_;
-      problem_.normal_bias[k] = contact::normal_bias(gap, v_before_[point], node ? theta_dt : dt,
-                                                      parameters_.normal_bias);
-      if (node && theta < 1.0) {
-        problem_.free_velocity.segment<3>(3 * k) +=
-            ((1.0 - theta) / theta) *
-            point_velocity(slot_velocity_[body_slot_[points_[point].body]], lever_[point]);
-      }
-      problem_.friction[k] = points_[point].friction;
-      impulses_.segment<3>(3 * k) = point_impulse_[point];
-    }
-    lap(profile_.contact_build);
-    for (std::size_t j = 0; j < patches_.size(); ++j) {
-      if (problem_.patches[j].n_contacts > 0) {
-        Patch& patch = patches_[j];
-        if (patch.damping > 0.0) { // U - U_bar = (U - (1-theta) C F_prev) / (beta/dt + theta)
-          patch.relaxation =
-              (patch.displacement - (1.0 - theta) * patch.elastic) / (patch.damping / dt + theta);
-          contact::add_deformation_rate_term(problem_.patches[j], patch.relaxation, theta_dt,
-                                              problem_);
-        } else {
-          contact::add_deformation_rate_term(problem_.patches[j], patch.displacement, theta_dt,
-                                              problem_);
-        }
-        if (patches_[j].has_offset) { // -(U_prev - d) / (theta dt)
-          problem_.free_velocity.segment(3 * problem_.patches[j].first_contact,
-                                         patches_[j].offset_contact.size()) +=
-              patches_[j].offset_contact / theta_dt;
-        }
-      }
-    }
-    lap(profile_.sole_update);
-    report.solver = solver_.solve(problem_, parameters_.solver, impulses_);
-    lap(profile_.contact_solve);
-    ++profile_.n_solves;
-    profile_.n_solve_rows += 3 * n;
-    if (report.solver.status == contact::SolverStatus::non_finite) {
-      throw std::runtime_error("Stepper::step: the contact solver produced non-finite impulses "
-                               "with " +
-                               std::to_string(n) + " contacts");
-    }
-    if (parameters_.throw_if_not_converged) {
-      contact::throw_if_not_converged(report.solver, parameters_.solver, "Stepper::step");
-    }
-    // v+ = v_free + L^-T (G^T p), G^T p = sum over bodies of (L^-1 J_b^T) (sum of S^T p).
-    for (auto& impulse : slot_impulse_) {
-      impulse.setZero();
-    }
-    for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d p = impulses_.segment<3>(3 * k);
-      const Eigen::Vector3d world(p[1], p[2], p[0]); // R_c p
-      Vector6d& wrench = slot_impulse_[body_slot_[points_[active_points_[k]].body]];
-      wrench.head<3>() += world;
-      wrench.tail<3>() += lever_[active_points_[k]].cross(world);
-    }
-    dv_.setZero();
-    for (std::size_t s = 0; s < slot_body_.size(); ++s) {
-      if (slot_factored_[s]) {
-        dv_.noalias() += slot_factor_[s] * slot_impulse_[s];
-      }
-    }
-    effective_mass_.triangularView<Eigen::Lower>().transpose().solveInPlace(dv_);
-    v_mid_ = (1.0 - theta) * v + theta * (v_free_ + dv_); // v_theta
-    v = v_free_ + dv_;
-  } else {
-    report.solver.status = contact::SolverStatus::converged;
-    v_mid_ = (1.0 - theta) * v + theta * v_free_;
-    v = v_free_;
-  }
-  lap(profile_.dynamics);
-  // Impulses of the step; a patch node's adds the last step's force over (1 - theta) dt.
-  for (auto& impulse : point_impulse_) {
-    impulse.setZero();
-  }
-  for (Patch& patch : patches_) {
-    if (patch.has_force) {
-      for (int k = 0; k < patch.nodes.cols(); ++k) {
-        point_impulse_[patch.first_point + k] = lag * patch.force.segment<3>(3 * k);
-      }
-      patch.force.setZero();
-      patch.has_force = false;
-    }
-  }
+void Stepper::assemble(int n, const Eigen::Ref<const Eigen::VectorXd>& v) {
+  const double dt = parameters_.time_step;
+  const double theta = parameters_.theta;
+  const double theta_dt = theta * dt;
+  // L^-1 J_b^T once per body in contact; the reduced rigid factor over those bodies.
+  reduced_slots_.clear();
   for (int k = 0; k < n; ++k) {
-    point_impulse_[active_points_[k]] += impulses_.segment<3>(3 * k);
+    const int s = body_slot_[points_[active_points_[k]].body];
+    if (!slot_factored_[s]) {
+      slot_factor_[s] = slot_jacobian_[s].transpose();
+      effective_mass_.triangularView<Eigen::Lower>().solveInPlace(slot_factor_[s]);
+      slot_factor_t_[s] = slot_factor_[s].transpose();
+      slot_factored_[s] = 1;
+      reduced_slots_.push_back(s);
+    }
   }
+  if (reduce_rigid_) {
+    reduce_rigid_factor();
+  }
+  // T = blockdiag(R_b^T, R_b^T) H_b of each patch in contact (CompliantPatch::lever_map).
   for (std::size_t j = 0; j < patches_.size(); ++j) {
     contact::CompliantPatch& target = problem_.patches[j];
-    Patch& patch = patches_[j];
-    if (target.n_contacts > 0) {
-      // F = P / (theta dt); U_c = C F = theta dt (I (x) a) C/(theta dt)^2 (I (x) a)^T P from
-      // the solver's product (no pass over C).
-      patch.force = impulses_.segment(3 * target.first_contact, 3 * target.n_contacts) / theta_dt;
-      patch.has_force = true;
-      patch.product = solver_.patch_product(target);
-      patch.impulse = impulses_.segment(3 * target.first_contact, 3 * target.n_contacts);
-      contact::rotate_to_patch(patch.rotation, patch.impulse);
-      patch.has_last_solve = true;
-      // A direct solve's product is fresh (no incremental updates).
-      patch.sweeps_since_fresh =
-          report.solver.direct ? 0 : patch.sweeps_since_fresh + report.solver.iterations;
-      if (patch.damping > 0.0) {
-        patch.relaxation = patch.displacement - patch.relaxation; // U_bar (before U is renewed)
-      }
-      for (int k = 0; k < target.n_contacts; ++k) {
-        patch.displacement.segment<3>(3 * k).noalias() =
-            theta_dt * (patch.rotation * patch.product.segment<3>(3 * k));
-      }
-      if (patch.damping > 0.0) { // U+ = a C F + U_bar; C F = (a C F) / a for the next step
-        const double a = theta / (patch.damping / dt + theta);
-        patch.elastic = patch.displacement / a;
-        patch.displacement += patch.relaxation;
-      }
-      if (patch.has_offset) {
-        patch.displacement += patch.offset_contact;
-      }
+    target.lever_map_valid = target.n_contacts > 0;
+    if (target.lever_map_valid) {
+      const int s = body_slot_[patches_[j].body];
+      const Eigen::Matrix<double, 6, Eigen::Dynamic>& h =
+          reduce_rigid_ ? slot_reduced_[s] : slot_factor_t_[s];
+      const Eigen::Matrix3d& rotation = data_.oMi[patches_[j].body].rotation;
+      target.lever_map.topRows<3>().noalias() = rotation.transpose() * h.topRows<3>();
+      target.lever_map.bottomRows<3>().noalias() = rotation.transpose() * h.bottomRows<3>();
+    }
+  }
+  // G (3 n x rank), v_free,c, b, mu, warm start.
+  for (int k = 0; k < n; ++k) {
+    const int point = active_points_[k];
+    fill_contact_rows(k, point);
+    const double gap = gap_[point];
+    // An impact with restitution follows Newton's law alone (Moreau-Jean); otherwise a
+    // contact activated before touching may close its gap within the step, no more:
+    // normal_bias returns gap/dt for gap > 0 (adding it again let a landing sink by the gap).
+    // A patch node's velocity is (x+ - x) / (theta dt) = v+ + (1-theta)/theta v (theta-mixed
+    // position update), so its gap is closed over theta dt.
+    const bool node = point < n_patch_points_;
+    problem_.normal_bias[k] =
+        contact::normal_bias(gap, v_before_[point], node ? theta_dt : dt, parameters_.normal_bias);
+    if (node && theta < 1.0) {
+      problem_.free_velocity.segment<3>(3 * k) +=
+          ((1.0 - theta) / theta) *
+          point_velocity(slot_velocity_[body_slot_[points_[point].body]], lever_[point]);
+    }
+    problem_.friction[k] = points_[point].friction;
+    impulses_.segment<3>(3 * k) = point_impulse_[point];
+  }
+  lap(profile_.contact_build);
+  for (std::size_t j = 0; j < patches_.size(); ++j) {
+    if (problem_.patches[j].n_contacts > 0) {
+      patches_[j].state->add_rate_terms();
     }
   }
   lap(profile_.sole_update);
-  if (!v.allFinite()) {
-    throw std::runtime_error(
-        "Stepper::step: non-finite velocity after the step (dt = " + std::to_string(dt) + " s)");
+}
+
+void Stepper::apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v) {
+  const double theta = parameters_.theta;
+  if (n == 0) {
+    v_mid_ = (1.0 - theta) * v + theta * v_free_;
+    v = v_free_;
+    return;
   }
-  integrate(model_, q, v_mid_, dt, q);
-  lap(profile_.dynamics);
-  return report;
+  // v+ = v_free + L^-T (G^T p), G^T p = sum over bodies of (L^-1 J_b^T) (sum of S^T p).
+  for (auto& impulse : slot_impulse_) {
+    impulse.setZero();
+  }
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d world = contact::ground_to_world(impulses_.segment<3>(3 * k));
+    Vector6d& wrench = slot_impulse_[body_slot_[points_[active_points_[k]].body]];
+    wrench.head<3>() += world;
+    wrench.tail<3>() += lever_[active_points_[k]].cross(world);
+  }
+  dv_.setZero();
+  for (std::size_t s = 0; s < slot_body_.size(); ++s) {
+    if (slot_factored_[s]) {
+      dv_.noalias() += slot_factor_[s] * slot_impulse_[s];
+    }
+  }
+  effective_mass_.triangularView<Eigen::Lower>().transpose().solveInPlace(dv_);
+  v_mid_ = (1.0 - theta) * v + theta * (v_free_ + dv_); // v_theta
+  v = v_free_ + dv_;
 }
 
 Eigen::Vector3d Stepper::total_contact_force() const {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (const auto& p : point_impulse_) {
-    sum += Eigen::Vector3d(p[1], p[2], p[0]);
+    sum += contact::ground_to_world(p);
   }
   return sum / parameters_.time_step;
 }

@@ -1,7 +1,7 @@
 #pragma once
 // The velocity-level time stepper (David et al. 2008, eq. 4: explicit Adams order 1, i.e. a
 // Moreau-Jean step) with linear-implicit joint springs, and frictional contact against the
-// ground plane z = 0 solved by coupling/contact.
+// ground plane z = 0 solved by contact/ (frame: contact/ground_frame.h).
 //
 // One step of length dt, from (q, v) to (q+, v+), theta in [1/2, 1] (Moreau-Jean theta
 // method; theta = 1 is the paper's eq. 4, the default):
@@ -15,13 +15,14 @@
 //   M_eff v_free = r,  M_eff = L L^T
 //   v+ = v_free + M_eff^-1 J^T p,   p the contact impulses (N s) of the contact problem
 //   q+ = q (+) dt v_theta                                         (configuration.h)
-// Sole nodes (compliant patches) carry forces, not impacts: the impulse of a step is
-// dt ((1-theta) F_prev + theta F), F = P / (theta dt) the force at the step's end and P the
-// solver's unknown; the node's displacement at the end, U = C F (+ d), enters through the
-// theta-weighted node velocity (x+ - x) / (theta dt), so the sole block is C / (theta dt)^2,
+// Nodes of a deformable patch (a condensed pad: contact::DeformablePatch, e.g. coupling::
+// PadState, which holds its compliance and state) carry forces, not impacts: the impulse of a
+// step is dt ((1-theta) F_prev + theta F), F = P / (theta dt) the force at the step's end and P
+// the solver's unknown; the node's displacement at the end, U = C F (+ d), enters through the
+// theta-weighted node velocity (x+ - x) / (theta dt), so the patch block is C / (theta dt)^2,
 // the deformation-rate term -(U_prev - d) / (theta dt), the gap bias uses theta dt and the
 // free velocity gets (1-theta)/theta times the node's velocity at v. Free points keep
-// Moreau's impact law on v+. theta = 1/2 integrates linear springs (joints and soles) without
+// Moreau's impact law on v+. theta = 1/2 integrates linear springs (joints and pads) without
 // numerical damping, second order; theta = 1 damps them (first order).
 // With implicit_gains = false the springs are explicit instead (M_eff = M, forces at q, v):
 // kept to show that stiff gains diverge that way.
@@ -32,13 +33,15 @@
 // gap/dt for a contact activated before touching (gap > 0, so that it lands on the plane
 // instead of stopping above it, and no deeper), else the position correction.
 // A point is active when its gap g (z of the point) satisfies g + dt min(v_free,n, 0) <= 0.
-// A compliant patch (a condensed sole, nodes fixed to a body, compliance C in the body frame)
-// enters as a whole when any of its nodes is active; its block is A C A^T / dt^2 per node pair
-// with A = R_c^T R_body (contact frame <- body frame), plus the deformation-rate term of
-// eq. 12 (compliance_terms.h); node gaps include the previous step's deformation.
+// A deformable patch (nodes fixed to a body) enters as a whole when any of its nodes is active
+// (its unloaded gap, contact::DeformablePatch::unloaded_gap); its block is
+// (I (x) a) C (I (x) a)^T / (theta dt)^2 with a = R_c^T R_body (contact frame <- body frame),
+// kept in the body frame (CompliantPatch::rotation), plus the deformation-rate term of eq. 12
+// (compliance_terms.h); node gaps include the previous step's deformation.
+// A step reads: free_motion (dynamics), select_candidates, assemble, the contact solve,
+// apply_impulses, then each patch's finish_step and the integration of q.
 // Cost: the rows of all candidates fixed to one body come from that body's 6 x nv Jacobian
-// J_b and one triangular solve L^-1 J_b^T per body and step; a patch's blocks are recomputed
-// only when its body's rotation (bitwise) or C changed since they were last computed.
+// J_b and one triangular solve L^-1 J_b^T per body and step.
 //
 // After construction and the add_* calls, step() allocates nothing (tested with Eigen's
 // malloc guard, except inside Eigen's blocked Cholesky of a patch block larger than about
@@ -46,6 +49,7 @@
 
 #include "contact/contact_problem.h"
 #include "contact/contact_solver.h"
+#include "contact/deformable_patch.h"
 #include "contact/position_correction.h"
 #include "contact/solver_settings.h"
 #include "multibody/data.h"
@@ -54,6 +58,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <chrono>
 #include <vector>
 
 namespace plantar::multibody {
@@ -115,11 +120,11 @@ public:
   /// coefficient mu >= 0. Returns its index. Not in the time loop (allocates).
   int add_contact_point(int body, const Eigen::Vector3d& position, double friction);
 
-  /// A compliant patch: @p nodes (3 x n, body coordinates, m) fixed to @p body, with compliance
-  /// @p compliance (3n x 3n, m/N, body frame, node-major [x y z] blocks, symmetric positive
-  /// semi-definite), friction mu. Returns its index. Not in the time loop (allocates).
-  int add_compliant_patch(int body, const Eigen::Matrix3Xd& nodes,
-                          const Eigen::MatrixXd& compliance, double friction);
+  /// A deformable patch: @p nodes (3 x n, body coordinates, m) fixed to @p body, friction mu,
+  /// whose compliance and state are @p patch (e.g. coupling::PadState; not owned, must outlive
+  /// the stepper; n = patch.n_nodes()). Returns its index. Not in the time loop (allocates).
+  int add_deformable_patch(int body, const Eigen::Matrix3Xd& nodes, double friction,
+                           contact::DeformablePatch& patch);
 
   /// Advances (q, v) by one step in place. @param q size nq, @param v size nv,
   /// @param tau feed-forward joint forces (nv; base entries are external base wrenches in the
@@ -143,37 +148,8 @@ public:
   const Eigen::Vector3d& node_impulse(int patch, int node) const {
     return point_impulse_[patches_[patch].first_point + node];
   }
-  /// Force on node @p node of patch @p patch at the end of the last step (N, contact frame):
-  /// F = P / (theta dt), the one the sole's displacement patch_displacement() = C F (+ d)
-  /// belongs to (theta = 1: node_impulse / dt).
-  const Eigen::Vector3d node_force(int patch, int node) const {
-    return patches_[patch].force.segment<3>(3 * node);
-  }
   /// Sum of the last step's contact forces on the robot (N, world): impulses / dt.
   Eigen::Vector3d total_contact_force() const;
-  /// Node displacements of patch @p patch after the last step (3 n, contact frame, m).
-  const Eigen::VectorXd& patch_displacement(int patch) const {
-    return patches_[patch].displacement;
-  }
-  /// Replaces the compliance C of patch @p patch by @p compliance (3n x 3n, m/N, body frame,
-  /// symmetric) and sets the displacement offset d to @p offset (3n, m, body frame): the node
-  /// displacements become U = C F + d, an affine (e.g. tangent, coupling/
-  /// nonlinear_condensed_sole.h) sole model; d = 0 after add_compliant_patch. In eq. 12 the
-  /// deformation-rate term becomes -(U_prev - d)/dt. Between steps only; does not allocate.
-  /// Throws std::invalid_argument on an index, size, asymmetry or non-finite value.
-  void set_patch_compliance(int patch, const Eigen::Ref<const Eigen::MatrixXd>& compliance,
-                            const Eigen::Ref<const Eigen::VectorXd>& offset);
-  /// Kelvin-Voigt damping of patch @p patch: U + beta dU/dt = C F (+ d), beta (s) >= 0 the
-  /// damping time of a stiffness-proportional (Rayleigh) sole damping D = beta K, which the
-  /// static condensation keeps exactly (the interior equations hold for w = u + beta du/dt).
-  /// Loss factor beta omega at angular frequency omega. Integrated with the step's theta:
-  ///   U+ = a C F + U_bar,  a = theta / (beta/dt + theta),
-  ///   U_bar = ((beta/dt - (1-theta)) U + (1-theta) C F_prev) / (beta/dt + theta),
-  /// so the sole block becomes a C / (theta dt)^2 and the deformation-rate term
-  /// -(U - U_bar) / (theta dt). A lifted sole still relaxes at once (massless, beta << swing).
-  /// beta = 0 after add_compliant_patch. Between steps only; does not allocate. Throws
-  /// std::invalid_argument on an index, a beta < 0 or not finite, or a patch with an offset d.
-  void set_patch_damping(int patch, double beta);
   double time_step() const { return parameters_.time_step; }
   /// Accumulated phase timings (a few clock reads per step, no allocation).
   const StepProfile& profile() const { return profile_; }
@@ -185,27 +161,11 @@ private:
     Eigen::Vector3d position;
     double friction;
   };
-  struct Patch {
+  struct Patch { // the geometry; the state is the DeformablePatch's
     int body;
     Eigen::Matrix3Xd nodes;
-    Eigen::MatrixXd compliance; // body frame
-    double friction;
-    int first_point;                // index of its first node in points_
-    Eigen::VectorXd displacement;   // U_c of the last step, contact frames
-    Eigen::MatrixXd parked;         // holds compliance_over_dt (C/dt^2) while inactive
-    Eigen::VectorXd offset;         // d (body frame), set_patch_compliance
-    Eigen::VectorXd offset_contact; // d in the contact frames of the current step
-    bool has_offset = false;
-    Eigen::Matrix3d rotation;    // a = R_c^T R_body of the current step (patch -> contact)
-    Eigen::VectorXd product;     // w = C/dt^2 (I (x) a)^T p of the last solve (patch frame)
-    Eigen::VectorXd impulse;     // (I (x) a)^T p of the last solve (patch frame), N s
-    bool has_last_solve = false; // product and impulse hold the last step's solve
-    int sweeps_since_fresh = 0;  // solver sweeps since product was last computed afresh
-    Eigen::VectorXd force;       // F at the end of the last step (contact frame), N
-    bool has_force = false;      // force is not zero
-    double damping = 0;          // beta (s), Kelvin-Voigt
-    Eigen::VectorXd elastic;     // C F of the last step (contact frames), beta > 0
-    Eigen::VectorXd relaxation;  // U - U_bar of this step (contact frames), beta > 0
+    int first_point; // index of its first node in points_
+    contact::DeformablePatch* state;
   };
 
   void resize_workspaces();
@@ -217,14 +177,23 @@ private:
   double evaluate_candidate(int point, double extra_gap);
   /// Row block k (3 rows) of G and v_free,c for candidate @p point.
   void fill_contact_rows(int k, int point);
-  /// Sets the patch's rotation for this step (and its offset in the contact frames); rotates
-  /// the warm-start impulses of its nodes with the body so that the kept product stays valid.
-  void update_patch_rotation(Patch& patch, contact::CompliantPatch& target);
   /// Rigid factor with 6 columns per contact body: G_k = S_k Z_b, Z Z^T = H H^T, H the
   /// stacked J_b L^-T of the bodies in contact (semi-definite Cholesky).
   void reduce_rigid_factor();
-  /// a C / (theta dt)^2 into the patch's held block (see set_patch_damping).
-  void set_patch_block(int patch);
+  /// The phases of step().
+  void free_motion(const Eigen::Ref<const Eigen::VectorXd>& q,
+                   const Eigen::Ref<const Eigen::VectorXd>& v,
+                   const Eigen::Ref<const Eigen::VectorXd>& tau,
+                   const Eigen::Ref<const Eigen::VectorXd>& q_ref,
+                   const Eigen::Ref<const Eigen::VectorXd>& v_ref);
+  /// The active candidates into active_points_ (patches first); returns their number.
+  int select_candidates();
+  /// G, v_free,c, b, mu and the warm start of the n active contacts.
+  void assemble(int n, const Eigen::Ref<const Eigen::VectorXd>& v);
+  /// v+ = v_free + M_eff^-1 J^T p; v_mid_ = v_theta.
+  void apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v);
+  /// Adds the wall time since the last lap to @p bucket (profile_).
+  void lap(double& bucket);
 
   const Model& model_;
   StepperParameters parameters_;
@@ -259,6 +228,7 @@ private:
   contact::ContactProblem problem_;
   contact::ContactSolver solver_;
   StepProfile profile_;
+  std::chrono::steady_clock::time_point lap_start_;
 };
 
 } // namespace plantar::multibody

@@ -4,6 +4,7 @@
 //   --benchmark_repetitions=10 --benchmark_min_time=0.5
 // and compare medians. Published reference (validation.md, Pinocchio, 34-DoF humanoid, one
 // core): RNEA ~3.7 us, CRBA ~3.0 us; MuJoCo humanoid (27 DoF, ~12 contacts) ~31 us per step.
+#include "coupling/pad_state.h"
 #include "multibody/crba.h"
 #include "multibody/data.h"
 #include "multibody/kinematics.h"
@@ -13,6 +14,8 @@
 
 #include <Eigen/Cholesky>
 #include <benchmark/benchmark.h>
+
+#include <deque>
 
 #include <algorithm>
 #include <cstdio>
@@ -140,6 +143,7 @@ void BM_Step(benchmark::State& state) {
   parameters.time_step = 1e-3;
   parameters.midpoint_bias = state.range(2) != 0;
   parameters.max_contacts = 128;
+  std::deque<coupling::PadState> pads; // outlive the stepper
   Stepper stepper(model, parameters);
   stepper.set_gains(PdGains::Uniform(model, 1e4, 200.0));
   Data data(model);
@@ -168,7 +172,8 @@ void BM_Step(benchmark::State& state) {
               Eigen::Vector3d(-0.1086 + 0.2172 * ix / 8.0, -0.069 + 0.138 * iy / 6.0, 0));
         }
       }
-      stepper.add_compliant_patch(frame.body, nodes, compliance, 0.8);
+      pads.emplace_back(compliance);
+      stepper.add_deformable_patch(frame.body, nodes, 0.8, pads.back());
     }
   } else if (contacts) {
     for (const char* name : {"r_sole", "l_sole"}) {

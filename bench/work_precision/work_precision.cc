@@ -131,7 +131,7 @@ void run_one(const Scene& scene, Result& result, int repeat) {
           impulse.push_back(stepper.total_contact_force().z() * dt);
           if (fem)
             for (int foot = 0; foot < 2; ++foot) {
-              const Eigen::VectorXd& u = stepper.patch_displacement(foot); // (n, t1, t2) per node
+              const Eigen::VectorXd& u = s.pad(foot)->displacement(); // (n, t1, t2) per node
               for (Eigen::Index k = 0; k < u.size(); k += 3)
                 max_deformation = std::max(max_deformation, std::abs(u[k]));
             }

@@ -16,6 +16,7 @@
 //   dt) are asserted stable only.
 #include "condensation_test_utilities.h"
 #include "coupling/condensed_sole.h"
+#include "coupling/pad_state.h"
 #include "foot_block_model.h"
 #include "multibody/crba.h"
 #include "multibody/data.h"
@@ -23,6 +24,8 @@
 #include "multibody/urdf_loader.h"
 
 #include <gtest/gtest.h>
+
+#include <optional>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
@@ -130,12 +133,14 @@ Outcome simulate(const Model& model, const Sole& sole, const Case& c) {
   parameters.time_step = c.dt;
   const int n = static_cast<int>(sole.nodes.cols());
   parameters.max_contacts = n + 5;
+  std::optional<PadState> pad;
   Stepper stepper(model, parameters);
   if (c.rigid) {
     for (int k = 0; k < n; ++k)
       stepper.add_contact_point(1, sole.nodes.col(k), c.mu);
   } else {
-    stepper.add_compliant_patch(1, sole.nodes, c.compliance_scale * sole.compliance, c.mu);
+    pad.emplace(c.compliance_scale * sole.compliance);
+    stepper.add_deformable_patch(1, sole.nodes, c.mu, *pad);
   }
   std::vector<int> backstop;
   if (c.backstop) {
@@ -184,7 +189,7 @@ Outcome simulate(const Model& model, const Sole& sole, const Case& c) {
     if (c.mark_time >= 0 && i == static_cast<int>(std::lround(c.mark_time / c.dt)))
       out.mark_velocity = r1 * v.head<3>();
     if (!c.rigid) {
-      const Eigen::VectorXd& u = stepper.patch_displacement(0);
+      const Eigen::VectorXd& u = pad->displacement();
       for (int k = 0; k < n; ++k) {
         energy += 0.5 * stepper.node_impulse(0, k).dot(u.segment<3>(3 * k)) / c.dt;
         out.min_gap = std::min(out.min_gap, (r1 * sole.nodes.col(k)).z() + q[2] + u[3 * k]);
@@ -205,7 +210,7 @@ Outcome simulate(const Model& model, const Sole& sole, const Case& c) {
   out.final_velocity = r_end * v.head<3>();
   if (!c.rigid)
     for (int k = 0; k < n; ++k)
-      out.mean_shear_x += stepper.patch_displacement(0)[3 * k + 1] / n;
+      out.mean_shear_x += pad->displacement()[3 * k + 1] / n;
   out.sink = H / 2 + T - q[2];
   out.position = q.head<3>();
   const Eigen::Quaterniond final_orientation(q[6], q[3], q[4], q[5]);
@@ -464,7 +469,8 @@ TEST_F(HardCases, FootLandingOnItsEdge) {
     c.drop = 0.02;
     c.duration = 1.2;
     c.parameters.solver.solver = row.solver;
-    c.parameters.solver.max_iterations = row.solver == contact::ContactSolverType::admm ? 2000 : 500;
+    c.parameters.solver.max_iterations =
+        row.solver == contact::ContactSolverType::admm ? 2000 : 500;
     const Outcome o = simulate(*model_, *sole_, c);
     char name[64];
     std::snprintf(name, sizeof name, "edge %.0f deg, %s", row.roll * 180 / M_PI,
@@ -530,7 +536,8 @@ TEST_F(HardCases, ManyRedundantContacts) {
   const Sole fine = make_sole(0.3, 21, 13);
   const Punch punch = punch_sinks(fine.compliance, weight);
   print_header();
-  for (const auto solver : {contact::ContactSolverType::admm, contact::ContactSolverType::gauss_seidel})
+  for (const auto solver :
+       {contact::ContactSolverType::admm, contact::ContactSolverType::gauss_seidel})
     for (const bool rigid : {false, true}) {
       Case c;
       c.rigid = rigid;
@@ -557,8 +564,8 @@ TEST_F(HardCases, ManyRedundantContacts) {
 }
 
 TEST_F(HardCases, ImpossibleSolverSettingFailsCleanly) {
-  // One iteration cannot solve a 96-node landing: with contact::throw_if_not_converged the step throws
-  // naming the solver, status, iterations, residual and tolerance.
+  // One iteration cannot solve a 96-node landing: with contact::throw_if_not_converged the step
+  // throws naming the solver, status, iterations, residual and tolerance.
   Case c;
   c.parameters.solver.max_iterations = 1;
   c.parameters.throw_if_not_converged = true;

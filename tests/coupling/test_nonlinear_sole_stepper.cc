@@ -2,9 +2,9 @@
 // 0.2172 x 0.138 x 0.1 m) dropped on a Neo-Hookean sole (0.02 m, Q1 6 x 4 x 2, nu = 0.3)
 // fixed under it. The sole is coupling::NonlinearCondensedSole; after each step its forces
 // update the Newton state and, on re-condensation, the stepper's patch compliance and offset
-// (Stepper::set_patch_compliance). Compared with the linear sole of the same E, nu (the
+// (coupling::PadState::set_compliance). Compared with the linear sole of the same E, nu (the
 // compliance at u = 0, never updated):
-//  - Stepper::set_patch_compliance: an offset d_z = delta on every node lowers the resting
+//  - PadState::set_compliance: an offset d_z = delta on every node lowers the resting
 //    foot by delta (U = C F + d at the same F);
 //  - linear limit: at small strain the runs agree (final sink within 1 %); the differences
 //    (final sink, max sole compression, peak force) grow monotonically with the strain
@@ -14,6 +14,7 @@
 //    the re-condensation tolerance); re-condensations and the tolerated error are reported.
 #include "condensation_test_utilities.h"
 #include "coupling/nonlinear_condensed_sole.h"
+#include "coupling/pad_state.h"
 #include "fem/hyperelastic_law.h"
 #include "foot_block_model.h"
 #include "multibody/stepper.h"
@@ -73,12 +74,13 @@ Outcome simulate(const multibody::Model& model, NonlinearCondensedSole& sole, So
   parameters.time_step = dt;
   parameters.max_contacts = n;
   multibody::Stepper stepper(model, parameters);
-  stepper.add_compliant_patch(1, nodes, sole.compliance(), 1.0);
+  coupling::PadState pad(sole.compliance());
+  stepper.add_deformable_patch(1, nodes, 1.0, pad);
   if (offset_z != 0) {
     Eigen::VectorXd d = Eigen::VectorXd::Zero(3 * n);
     for (int k = 0; k < n; ++k)
       d[3 * k + 2] = offset_z;
-    stepper.set_patch_compliance(0, sole.compliance(), d);
+    pad.set_compliance(sole.compliance(), d);
   }
   Eigen::VectorXd q(7), v = Eigen::VectorXd::Zero(6);
   q << 0, 0, H / 2 + T + drop, 0, 0, 0, 1;
@@ -94,7 +96,7 @@ Outcome simulate(const multibody::Model& model, NonlinearCondensedSole& sole, So
     out.peak_acceleration = std::max(out.peak_acceleration, std::abs(vz - vz_prev) / dt);
     vz_prev = vz;
     out.peak_force = std::max(out.peak_force, stepper.total_contact_force().z());
-    const Eigen::VectorXd& u = stepper.patch_displacement(0);
+    const Eigen::VectorXd& u = pad.displacement();
     for (int k = 0; k < n; ++k) {
       out.max_compression = std::max(out.max_compression, u[3 * k]);
       // Contact frame (n, t1, t2) = world (z, x, y) -> sole (= body) frame.
@@ -104,7 +106,7 @@ Outcome simulate(const multibody::Model& model, NonlinearCondensedSole& sole, So
     if (kind == SoleModel::nonlinear) {
       if (sole.update(forces).recondensed) {
         Eigen::MatrixXd c = sole.compliance();
-        stepper.set_patch_compliance(0, c, sole.offset());
+        pad.set_compliance(c, sole.offset());
       }
     }
   }
@@ -112,7 +114,7 @@ Outcome simulate(const multibody::Model& model, NonlinearCondensedSole& sole, So
   out.final_force = stepper.total_contact_force().z();
   if (kind == SoleModel::nonlinear) {
     // Stepper displacements (contact frame, level block: (n, t1, t2) = sole (z, x, y)).
-    const Eigen::VectorXd& u = stepper.patch_displacement(0);
+    const Eigen::VectorXd& u = pad.displacement();
     Eigen::VectorXd u_sole(3 * n);
     for (int k = 0; k < n; ++k)
       u_sole.segment<3>(3 * k) << u[3 * k + 1], u[3 * k + 2], u[3 * k];

@@ -5,6 +5,7 @@
 // contact problem, the high ones with zero impulse) to round-off. (It found that the
 // activation test must use the unloaded gap of a patch node, g - U_prev: see stepper.cc.)
 
+#include "coupling/pad_state.h"
 #include "multibody/stepper.h"
 #include "multibody/urdf_loader.h"
 #include "tests/multibody/test_helpers.h"
@@ -41,8 +42,9 @@ CullingRun simulate(double margin) {
   for (int k = 0; k < 4; ++k)
     compliance(3 * k + 2, 3 * k + 2) = 2e-5;
   compliance.block<3, 3>(0, 3) = compliance.block<3, 3>(3, 0) = Eigen::Matrix3d::Identity() * 1e-5;
-  stepper.add_compliant_patch(1, low, compliance, 0.8);
-  const int high_patch = stepper.add_compliant_patch(1, high, compliance, 0.8);
+  coupling::PadState low_pad(compliance), high_pad(compliance);
+  stepper.add_deformable_patch(1, low, 0.8, low_pad);
+  const int high_patch = stepper.add_deformable_patch(1, high, 0.8, high_pad);
   std::vector<int> high_points;
   for (int k = 0; k < 4; ++k)
     high_points.push_back(

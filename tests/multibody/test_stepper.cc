@@ -4,6 +4,7 @@
 // a humanoid standing on rigid contacts and a box on a compliant patch (with the contact
 // solver of coupling/contact), and a step that allocates nothing.
 #define EIGEN_RUNTIME_NO_MALLOC
+#include "coupling/pad_state.h"
 #include "multibody/crba.h"
 #include "multibody/data.h"
 #include "multibody/kinematics.h"
@@ -378,7 +379,8 @@ TEST(Stepper, BoxOnCompliantPatchSinksByTheSoleDeflection) {
   for (int k = 0; k < 4; ++k) {
     compliance.block<3, 3>(3 * k, 3 * k).diagonal() << c_tangent, c_tangent, c_normal;
   }
-  stepper.add_compliant_patch(1, nodes, compliance, 0.8);
+  coupling::PadState pad(compliance);
+  stepper.add_deformable_patch(1, nodes, 0.8, pad);
   Eigen::VectorXd q = model.neutral_configuration(), v = Eigen::VectorXd::Zero(6);
   q[2] = 0.06; // 1 cm drop
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(6);
@@ -391,7 +393,7 @@ TEST(Stepper, BoxOnCompliantPatchSinksByTheSoleDeflection) {
   Eigen::internal::set_is_malloc_allowed(true);
   const double weight = model.total_mass() * 9.81;
   const double deflection = c_normal * weight / 4.0; // per node
-  const Eigen::VectorXd& u = stepper.patch_displacement(0);
+  const Eigen::VectorXd& u = pad.displacement();
   std::printf("box on a compliant patch: base z %.9f m, expected 0.05 - C_n F/4 = %.9f m "
               "(err %.2e m); node normal displacements %.4e %.4e %.4e %.4e (expected %.4e); "
               "contact force %.6f N vs weight %.6f N\n",
@@ -499,7 +501,8 @@ TEST(Stepper, PatchComplianceIsRotatedIntoTheContactFrames) {
   for (int k = 0; k < 4; ++k) {
     compliance.block<3, 3>(3 * k, 3 * k).diagonal() << c_x, c_y, c_z;
   }
-  stepper.add_compliant_patch(1, nodes, compliance, 0.8);
+  coupling::PadState pad(compliance);
+  stepper.add_deformable_patch(1, nodes, 0.8, pad);
   const Eigen::Quaterniond yaw(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
   Eigen::VectorXd q(7), v = Eigen::VectorXd::Zero(6);
   q << 0.0, 0.0, 0.05, yaw.x(), yaw.y(), yaw.z(), yaw.w();
@@ -512,7 +515,7 @@ TEST(Stepper, PatchComplianceIsRotatedIntoTheContactFrames) {
     tau.head<3>() = base_rotation(q).transpose() * Eigen::Vector3d(n >= 500 ? push : 0.0, 0, 0);
     stepper.step(q, v, tau, q, zero);
   }
-  const Eigen::VectorXd& u = stepper.patch_displacement(0); // [n, x, y] per node
+  const Eigen::VectorXd& u = pad.displacement(); // [n, x, y] per node
   const double expected = -c_y * push / 4;
   std::printf("rotated patch: node x displacements %.4e %.4e %.4e %.4e m, expected -c_y F/4 = "
               "%.4e m (with c_x it would be %.4e); y displacements %.1e; |v| %.1e\n",

@@ -5,6 +5,7 @@
 // (I (x) a) C (I (x) a)^T. The stepper derives a reduced G (6 columns per contact body,
 // G G^T = g g^T) from one Jacobian per body and keeps the patch block in the body frame with
 // its rotation; the two must agree to round-off (1e-12 relative).
+#include "coupling/pad_state.h"
 #include "multibody/crba.h"
 #include "multibody/data.h"
 #include "multibody/jacobian.h"
@@ -152,7 +153,8 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
     }
   }
   Eigen::MatrixXd compliance = random_compliance(36);
-  stepper.add_compliant_patch(patch_body, nodes, compliance, 0.8);
+  coupling::PadState pad(compliance);
+  stepper.add_deformable_patch(patch_body, nodes, 0.8, pad);
   const Frame& left = model.frames[left_sole];
   for (const double x : {-0.1086, 0.1086}) {
     for (const double y : {-0.069, 0.069}) {
@@ -171,7 +173,7 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
 
   auto check_step = [&](const char* what, const Eigen::MatrixXd& c) {
     const Eigen::VectorXd q0 = q, v0 = v;
-    const Eigen::VectorXd u_prev = stepper.patch_displacement(0);
+    const Eigen::VectorXd u_prev = pad.displacement();
     stepper.step(q, v, tau, q_ref, v_ref);
     reference(q0, v0);
     const contact::ContactProblem& problem = stepper.problem();
@@ -230,7 +232,7 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
   q = q1;
   v = v1;
   compliance = random_compliance(36);
-  stepper.set_patch_compliance(0, compliance, Eigen::VectorXd::Zero(36));
+  pad.set_compliance(compliance, Eigen::VectorXd::Zero(36));
   check_step("repeated third step, new compliance", compliance);
 }
 

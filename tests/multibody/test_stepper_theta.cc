@@ -9,6 +9,7 @@
 // - the theta-weighted impulses: the node impulse is dt ((1-theta) F_prev + theta F);
 // - the steps allocate nothing (Eigen's malloc guard).
 #define EIGEN_RUNTIME_NO_MALLOC
+#include "coupling/pad_state.h"
 #include "multibody/stepper.h"
 #include "multibody/urdf_loader.h"
 #include "tests/multibody/test_helpers.h"
@@ -118,8 +119,9 @@ Bounce run_bounce(double theta, double dt, double beta, double v0, double c) {
   for (int j = 0; j < 4; ++j) {
     compliance.block<3, 3>(3 * j, 3 * j).diagonal() << 2 * c, 2 * c, c;
   }
-  stepper.add_compliant_patch(1, nodes, compliance, 0.0);
-  stepper.set_patch_damping(0, beta);
+  coupling::PadState pad(compliance);
+  stepper.add_deformable_patch(1, nodes, 0.0, pad);
+  pad.set_damping(beta);
   const double m = model.total_mass();
   Eigen::VectorXd q = model.neutral_configuration(), v = Eigen::VectorXd::Zero(6);
   q[2] = 0.05; // nodes on the ground
@@ -135,14 +137,14 @@ Bounce run_bounce(double theta, double dt, double beta, double v0, double c) {
     Eigen::internal::set_is_malloc_allowed(false);
     stepper.step(q, v, tau, q, zero);
     Eigen::internal::set_is_malloc_allowed(true);
-    const Eigen::Vector3d f = stepper.node_force(0, 0);
+    const Eigen::Vector3d f = pad.node_force(0);
     const Eigen::Vector3d expected = dt * ((1 - theta) * f_prev + theta * f);
     out.impulse_error = std::max(out.impulse_error, (stepper.node_impulse(0, 0) - expected).norm());
     f_prev = f;
     if (stepper.node_impulse(0, 0)[0] > 0) {
       out.contact_time += dt;
     }
-    out.max_compression = std::max(out.max_compression, stepper.patch_displacement(0)[0]);
+    out.max_compression = std::max(out.max_compression, pad.displacement()[0]);
   }
   out.exit_velocity = v[2];
   return out;
@@ -214,13 +216,19 @@ TEST(ThetaMethod, BadParametersAreRejected) {
   parameters.theta = 0.5;
   Stepper stepper(model, parameters);
   Eigen::Matrix3Xd nodes = Eigen::Matrix3Xd::Zero(3, 1);
-  stepper.add_compliant_patch(1, nodes, 1e-5 * Eigen::MatrixXd::Identity(3, 3), 0.5);
-  EXPECT_THROW(stepper.set_patch_damping(0, -1e-3), std::invalid_argument);
-  EXPECT_THROW(stepper.set_patch_damping(1, 1e-3), std::invalid_argument);
-  stepper.set_patch_damping(0, 1e-3);
-  EXPECT_THROW(stepper.set_patch_compliance(0, 1e-5 * Eigen::MatrixXd::Identity(3, 3),
-                                            Eigen::Vector3d(0, 0, 1e-4)),
-               std::invalid_argument);
+  coupling::PadState pad(1e-5 * Eigen::MatrixXd::Identity(3, 3));
+  stepper.add_deformable_patch(1, nodes, 0.5, pad);
+  EXPECT_THROW(pad.set_damping(-1e-3), std::invalid_argument);
+  EXPECT_THROW(stepper.add_deformable_patch(1, Eigen::Matrix3Xd::Zero(3, 2), 0.5, pad),
+               std::invalid_argument); // 2 nodes for a 1-node pad
+  pad.set_damping(1e-3);
+  EXPECT_THROW(
+      pad.set_compliance(1e-5 * Eigen::MatrixXd::Identity(3, 3), Eigen::Vector3d(0, 0, 1e-4)),
+      std::invalid_argument);
+  EXPECT_THROW(coupling::PadState(Eigen::MatrixXd::Identity(3, 2)), std::invalid_argument);
+  Eigen::Matrix3d asymmetric = Eigen::Matrix3d::Identity();
+  asymmetric(0, 1) = 0.5;
+  EXPECT_THROW(coupling::PadState{asymmetric}, std::invalid_argument);
 }
 
 } // namespace
