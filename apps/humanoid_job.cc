@@ -29,8 +29,8 @@ HumanoidSummary run_humanoid(const Scene& scene, const std::filesystem::path& ou
                                [&vtk](const HumanoidSimulation& s) { vtk->write(s); });
   }
   const double end_time = simulation.n_steps() * scene.simulation.time_step;
-  ProgressBar progress(std::string(scene.type) + " (" + to_string(scene.robot.foot_form) + ")",
-                       end_time);
+  ProgressBar progress(
+      std::string(to_string(scene.type)) + " (" + to_string(scene.robot.foot_form) + ")", end_time);
   const auto show = [&](const HumanoidSimulation& s) {
     progress.update(s.steps_done() * scene.simulation.time_step);
   };
@@ -68,10 +68,10 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
     out << "hyperelastic soles: " << s.sole_newton_checks << " Newton checks, "
         << s.sole_recondensations << " re-condensations, largest tolerated prediction error "
         << s.sole_tolerated_error << " (tolerance " << s.sole_recondensation_tolerance << ")\n";
-  if (scene.type == "stand")
+  if (scene.type == SceneType::stand)
     out << "stand: max waist displacement after the settle time: " << s.stand_window_deviation * 1e3
         << " mm\n";
-  if (scene.type == "lean")
+  if (scene.type == SceneType::lean)
     out << "lean: commanded roll " << s.commanded_roll * deg << " deg, measured "
         << s.final_roll * deg << " deg, difference " << (s.commanded_roll - s.final_roll) * deg
         << " deg (max over the run " << s.max_roll_difference * deg << " deg)\n";
@@ -95,7 +95,7 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
 int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
                    const std::filesystem::path& output) {
   std::ostringstream all, failures;
-  all << "comparison: " << scene_file.string() << " (" << scene.type << "), "
+  all << "comparison: " << scene_file.string() << " (" << to_string(scene.type) << "), "
       << scene.robot.foot_forms.size() << " foot forms\n";
   for (const FootForm form : scene.robot.foot_forms) {
     Scene one = scene;
@@ -120,7 +120,7 @@ int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
     try {
       const HumanoidSummary summary = run_humanoid(one, dir);
       text = format_summary(one, summary);
-      write_summary_csv(dir / "summary.csv", one, summary);
+      write_summary_csv(dir / "summary.csv", summary);
       fem::write_file_atomically(dir / "summary.txt", [&](std::ostream& os) { os << text; });
     } catch (const std::exception& e) {
       const std::string message = fem::exception_text(e);
@@ -155,8 +155,7 @@ std::string form_directory(FootForm form) {
   return name;
 }
 
-void write_summary_csv(const std::filesystem::path& path, const Scene& scene,
-                       const HumanoidSummary& s) {
+void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary& s) {
   const double deg = 180.0 / M_PI;
   fem::write_file_atomically(path, [&](std::ostream& out) {
     out << std::setprecision(17) << "name,value\n"
@@ -170,8 +169,7 @@ void write_summary_csv(const std::filesystem::path& path, const Scene& scene,
         << "final_roll_deg," << s.final_roll * deg << "\n"
         << "roll_difference_deg," << (s.commanded_roll - s.final_roll) * deg << "\n"
         << "max_roll_difference_deg," << s.max_roll_difference * deg << "\n"
-        << "sole_thickness,"
-        << (scene.robot.foot_form == FootForm::fem_sole ? scene.sole.thickness : 0.0) << "\n"
+        << "sole_thickness," << s.sole_thickness << "\n"
         << "n_solves," << s.n_solves << "\n"
         << "n_direct_solves," << s.n_direct_solves << "\n"
         << "n_direct_refused_cone," << s.n_direct_refused_cone << "\n"

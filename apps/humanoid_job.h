@@ -31,8 +31,7 @@ std::string form_directory(FootForm form);
 /// Writes @p summary as "name,value" lines (17 digits) to @p path atomically: the figures read
 /// back by `plantar sweep` and the plot script (max_waist_acceleration_z in m/s^2,
 /// roll_difference_deg = commanded - measured final roll in deg, solver statistics, ...).
-void write_summary_csv(const std::filesystem::path& path, const Scene& scene,
-                       const HumanoidSummary& summary);
+void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary& summary);
 
 /// Reads a file written by write_summary_csv; throws std::runtime_error naming the file if it
 /// lacks @p name.

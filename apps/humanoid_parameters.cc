@@ -1,5 +1,6 @@
 #include "apps/humanoid_parameters.h"
 
+#include "apps/choice.h"
 #include "fem/sole_parameters.h"
 
 #include <Eigen/Geometry>
@@ -109,18 +110,18 @@ walking::Footstep parse_one(const std::string& text, const std::string& paramete
   return steps[0];
 }
 
+const ChoiceTable<SoleModel> sole_models{{SoleModel::linear, "linear"},
+                                         {SoleModel::hyperelastic, "hyperelastic"}};
+const ChoiceTable<contact::ContactSolverType> contact_solvers{
+    {contact::ContactSolverType::admm, "admm"},
+    {contact::ContactSolverType::gauss_seidel, "gauss-seidel"}};
+const ChoiceTable<walking::LegIkMethod> leg_ik_methods{
+    {walking::LegIkMethod::automatic, "automatic"}, {walking::LegIkMethod::numerical, "numerical"}};
+
 } // namespace
 
-const char* to_string(FootForm form) {
-  switch (form) {
-  case FootForm::rigid:
-    return "rigid";
-  case FootForm::compliant_ankle:
-    return "compliant ankle";
-  case FootForm::fem_sole:
-    return "fem sole";
-  }
-  return "?";
+SoleModel sole_model(const fem::SoleParameters& sole) {
+  return parse_choice(sole_models, sole.model, "Sole/Model");
 }
 
 std::vector<walking::Footstep> parse_footsteps(const std::string& text,
@@ -154,14 +155,11 @@ void RobotParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("URDF file", "", Anything(),
                     "Robot model; relative paths: scene directory, then the Plantar tree. "
                     "Humanoid scenes must set it (e.g. by 'include models/hrp2/robot.prm').");
-  prm.declare_entry("Foot form", "rigid", Selection("rigid|compliant ankle|fem sole"),
-                    "rigid: 8 contact points on each sole outline (Sole/Length x Sole/Width); "
-                    "compliant ankle: the same points plus a passive 3-DoF spring-damper "
-                    "between ankle and foot (paper eq. 13); fem sole: the FEM sole of "
-                    "subsection Sole condensed on its bottom nodes under each foot (eq. 11-12), "
-                    "the robot's reference raised by Sole/Thickness.");
+  prm.declare_entry("Foot form", to_string(RobotParameters().foot_form),
+                    Selection(foot_form_names()), foot_form_help());
   prm.declare_entry("Foot forms", "",
-                    dealii::Patterns::List(Selection("rigid|compliant ankle|fem sole"), 0, 3),
+                    dealii::Patterns::List(Selection(foot_form_names()), 0,
+                                           static_cast<unsigned int>(foot_form_table().size())),
                     "Comparison of foot forms: plantar run runs the scene once per form listed "
                     "(e.g. 'rigid, compliant ankle, fem sole') into DIR/<form>/ and plots them "
                     "together into DIR/figures/; plantar sweep sweeps these forms. Empty: Foot "
@@ -205,7 +203,8 @@ void RobotParameters::declare(dealii::ParameterHandler& prm) {
                     "Standing posture, 'joint: angle, joint: angle, ...' in degrees (metres for "
                     "prismatic joints); joints not named are at 0; the leg joints are set by the "
                     "inverse kinematics (and are 0 in the drop scene).");
-  prm.declare_entry("Leg IK", "automatic", Selection("automatic|numerical"),
+  prm.declare_entry("Leg IK", choice_name(leg_ik_methods, RobotParameters().leg_ik),
+                    choice_pattern(leg_ik_methods),
                     "automatic: Kajita's closed form where a leg has HRP-2's structure "
                     "(yaw-roll-pitch hip, pitch knee, pitch-roll ankle, no offsets but a lateral "
                     "one at the knee), else the numerical SE(3) solver; numerical: always the "
@@ -223,15 +222,10 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
   if (!urdf_file.empty() && !std::filesystem::exists(urdf_file))
     throw std::invalid_argument("Robot/URDF file = " + prm.get("URDF file") + ": no such file (" +
                                 urdf_file.string() + ")");
-  const std::string form = prm.get("Foot form");
-  foot_form = form == "rigid"             ? FootForm::rigid
-              : form == "compliant ankle" ? FootForm::compliant_ankle
-                                          : FootForm::fem_sole;
+  foot_form = parse_foot_form(prm.get("Foot form"), "Robot/Foot form");
   foot_forms.clear();
   for (const std::string& item : dealii::Utilities::split_string_list(prm.get("Foot forms"), ','))
-    foot_forms.push_back(item == "rigid"             ? FootForm::rigid
-                         : item == "compliant ankle" ? FootForm::compliant_ankle
-                                                     : FootForm::fem_sole);
+    foot_forms.push_back(parse_foot_form(item, "Robot/Foot forms"));
   ankle_linear_stiffness = prm.get_double("Ankle linear stiffness");
   ankle_linear_damping = prm.get_double("Ankle linear damping");
   ankle_angular_stiffness = prm.get_double("Ankle angular stiffness");
@@ -246,8 +240,7 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
       parse_placement(prm.get("Left sole placement"), "Robot/Left sole placement")};
   humanoid.controlled_joints = dealii::Utilities::split_string_list(prm.get("Controlled joints"));
   humanoid.posture = parse_posture(prm.get("Posture"), "Robot/Posture");
-  leg_ik = prm.get("Leg IK") == "numerical" ? walking::LegIkMethod::numerical
-                                            : walking::LegIkMethod::automatic;
+  leg_ik = parse_choice(leg_ik_methods, prm.get("Leg IK"), "Robot/Leg IK");
   const std::vector<double> centre =
       parse_numbers(prm.get("Ankle compliance centre"), "Robot/Ankle compliance centre", 3, 3);
   ankle_compliance_centre << centre[0], centre[1], centre[2];
@@ -291,8 +284,8 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Restitution", "0", Double(0, 1), "Newton restitution e (paper eq. 5).");
   prm.declare_entry("Position correction", "0.2", Double(0, 1),
                     "Fraction of a penetration removed per step, (0, 1].");
-  prm.declare_entry("Solver", "admm", Selection("admm|gauss-seidel"),
-                    "Contact solver (coupling/contact).");
+  prm.declare_entry("Solver", choice_name(contact_solvers, ContactParameters().solver),
+                    choice_pattern(contact_solvers), "Contact solver (coupling/contact).");
   prm.declare_entry("Tolerance", "1e-8", Double(0),
                     "Natural-map residual (m/s) at which a contact solve has converged, > 0.");
   prm.declare_entry("Max iterations", "500", Integer(1), "Solver iterations per step.");
@@ -316,7 +309,7 @@ void ContactParameters::parse(dealii::ParameterHandler& prm) {
   friction = prm.get_double("Friction coefficient");
   restitution = prm.get_double("Restitution");
   position_correction = prm.get_double("Position correction");
-  solver = prm.get("Solver");
+  solver = parse_choice(contact_solvers, prm.get("Solver"), "Contact/Solver");
   tolerance = prm.get_double("Tolerance");
   max_iterations = prm.get_integer("Max iterations");
   sticking_direct = prm.get_bool("Sticking direct solve");

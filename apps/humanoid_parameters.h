@@ -4,6 +4,9 @@
 // default, range, help) and parse(). The defaults are the paper's HRP-2 set-up (David et al.
 // 2008) and the public HRP-2 figures of shared/reference/hrp2.md.
 
+#include "apps/foot_model_registry.h"
+#include "contact/solver_settings.h"
+#include "fem/sole_parameters.h"
 #include "multibody/walking/footstep_plan.h"
 #include "multibody/walking/humanoid.h"
 #include "multibody/walking/leg_solver.h"
@@ -15,14 +18,6 @@
 #include <vector>
 
 namespace plantar::app {
-
-/// How the feet touch the ground.
-enum class FootForm {
-  rigid,           ///< rigid soles: 8 contact points on the sole outline (corners + edge midpoints)
-  compliant_ankle, ///< rigid points + the passive 3-DoF ankle spring-damper (paper eq. 13)
-  fem_sole,        ///< a condensed linear FEM sole under each foot (paper eq. 11-12)
-};
-const char* to_string(FootForm form);
 
 /// Subsection "Robot".
 struct RobotParameters {
@@ -46,6 +41,15 @@ struct RobotParameters {
   void parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory);
 };
 
+/// Sole/Model (declared by fem::SoleParameters): how the FEM sole deforms.
+enum class SoleModel {
+  linear,       ///< condensed once (coupling/condensed_sole.h)
+  hyperelastic, ///< tangent re-condensed in the time loop (coupling/nonlinear_condensed_sole.h)
+};
+/// The SoleModel of @p sole's Sole/Model (parsed by fem::SoleParameters, which keeps it as
+/// text: the one place that reads it).
+SoleModel sole_model(const fem::SoleParameters& sole);
+
 /// Entries of subsection "Sole" read by the humanoid scenes only: the reduced sole
 /// (coupling/reduced_sole.h) for Robot/Foot form = fem sole.
 struct SoleReductionParameters {
@@ -61,12 +65,12 @@ struct ContactParameters {
   double friction = 0.8;            ///< Coulomb mu, [0, 10]
   double restitution = 0.0;         ///< Newton e, [0, 1]
   double position_correction = 0.2; ///< fraction of a penetration removed per step, (0, 1]
-  std::string solver = "admm";      ///< admm | gauss-seidel
-  double tolerance = 1e-8;          ///< m/s, natural-map residual, > 0
-  int max_iterations = 500;         ///< >= 1
-  bool sticking_direct = true;      ///< direct solve when every contact sticks
-  double sweep_skip = 0.0;          ///< Gauss-Seidel: skip contacts within this x tolerance
-  double failure_residual = 1e-4;   ///< m/s: an unconverged solve above this stops the run
+  contact::ContactSolverType solver = contact::ContactSolverType::admm;
+  double tolerance = 1e-8;        ///< m/s, natural-map residual, > 0
+  int max_iterations = 500;       ///< >= 1
+  bool sticking_direct = true;    ///< direct solve when every contact sticks
+  double sweep_skip = 0.0;        ///< Gauss-Seidel: skip contacts within this x tolerance
+  double failure_residual = 1e-4; ///< m/s: an unconverged solve above this stops the run
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };

@@ -1,18 +1,7 @@
 #include "apps/humanoid_simulation.h"
 
-#include "contact/ground_frame.h"
-#include "coupling/condensed_sole.h"
-#include "coupling/contact_frame_compliance.h"
-#include "coupling/nonlinear_condensed_sole.h"
-#include "coupling/pad_state.h"
-#include "coupling/reduced_sole.h"
-#include "fem/hyperelastic_material_table.h"
-#include "fem/material_table.h"
-#include "fem/mesh_generator.h"
-#include "fem/mesh_import.h"
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
-#include "multibody/walking/ankle_compensation.h"
 #include "multibody/walking/walking_reference.h"
 
 #include <Eigen/Geometry>
@@ -31,8 +20,8 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-/// The scene's robot; @p compliant: with the compliant ankles of Foot form = compliant ankle.
-multibody::Model build_model(const Scene& scene, bool compliant) {
+/// @p scene itself; throws std::invalid_argument unless it is a humanoid scene with a robot.
+const Scene& checked(const Scene& scene) {
   const walking::HumanoidDescription& humanoid = scene.robot.humanoid;
   if (scene.robot.urdf_file.empty())
     throw std::invalid_argument("Robot/URDF file is not set: a humanoid scene needs a robot "
@@ -42,16 +31,18 @@ multibody::Model build_model(const Scene& scene, bool compliant) {
     throw std::invalid_argument(
         "Robot/Base link, Robot/Right foot link and Robot/Left foot link must name links of " +
         scene.robot.urdf_file.string() + " in a humanoid scene (docs/user_guide.md)");
+  if (scene.type == SceneType::static_sole)
+    throw std::invalid_argument(std::string("Scene type = ") + to_string(scene.type) +
+                                ": a humanoid scene must be stand, drop, lean or walk");
+  return scene;
+}
+
+/// The scene's robot with the parts of @p feet (nullptr: the bare robot of the reference).
+multibody::Model build_model(const Scene& scene, const FootModel* feet) {
+  const walking::HumanoidDescription& humanoid = scene.robot.humanoid;
   multibody::ModelOptions options;
-  if (compliant && scene.robot.foot_form == FootForm::compliant_ankle) {
-    auto& ankle = options.compliant_ankle;
-    ankle.foot_links = {humanoid.foot_links[0], humanoid.foot_links[1]};
-    ankle.center_in_foot = scene.robot.ankle_compliance_centre;
-    ankle.linear_stiffness = scene.robot.ankle_linear_stiffness;
-    ankle.linear_damping = scene.robot.ankle_linear_damping;
-    ankle.angular_stiffness = scene.robot.ankle_angular_stiffness;
-    ankle.angular_damping = scene.robot.ankle_angular_damping;
-  }
+  if (feet)
+    feet->configure_model(options);
   multibody::Model model =
       multibody::build_model_from_urdf(scene.robot.urdf_file.string(), options);
   try {
@@ -82,17 +73,15 @@ double roll_of(const Eigen::Matrix3d& rotation) {
 } // namespace
 
 HumanoidSimulation::HumanoidSimulation(const Scene& scene)
-    : scene_(scene), model_(build_model(scene, true)), reference_model_(build_model(scene, false)),
-      humanoid_(resolve_humanoid(model_, scene)),
-      reference_humanoid_(resolve_humanoid(reference_model_, scene)), data_(model_) {
-  const auto start = Clock::now();
-  const std::string& type = scene_.type;
-  if (type != "stand" && type != "drop" && type != "lean" && type != "walk")
-    throw std::invalid_argument("Scene type = " + type +
-                                ": a humanoid scene must be stand, drop, lean or walk");
+    : scene_(checked(scene)), foot_model_(make_foot_model(scene_)),
+      model_(build_model(scene_, foot_model_.get())),
+      reference_model_(build_model(scene_, nullptr)), humanoid_(resolve_humanoid(model_, scene_)),
+      reference_humanoid_(resolve_humanoid(reference_model_, scene_)), data_(model_) {
+  const SceneType type = scene_.type;
   const auto& sim = scene_.simulation;
   const double dt = sim.time_step;
-  lift_ = scene_.robot.foot_form == FootForm::fem_sole ? scene_.sole.thickness : 0.0;
+  lift_ = foot_model_->lift();
+  summary_.sole_thickness = lift_;
 
   // Configuration and velocity indices of the controlled joints.
   const std::vector<std::string>& names = humanoid_.joint_names;
@@ -109,12 +98,12 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   posture.leg_ik = scene_.robot.leg_ik;
   const auto& walk = scene_.walking.walk;
   double duration = sim.duration;
-  if (type == "stand") {
+  if (type == SceneType::stand) {
     if (duration <= 0)
       duration = sim.settle_time + 5.0;
     reference_ = walking::make_standing_reference(reference_model_, reference_humanoid_, duration,
                                                   walk.initial_right, walk.initial_left, posture);
-  } else if (type == "drop") {
+  } else if (type == SceneType::drop) {
     if (duration <= 0)
       duration = 1.0;
     // Straight legs (all leg joints 0), the posture elsewhere, waist upright above the
@@ -134,7 +123,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     reference_.set(0, base, angles, Eigen::Vector3d::Zero());
     reference_.set(1, base, angles, Eigen::Vector3d::Zero());
     lift_ += sim.release_height; // only the initial state: the base is not actuated
-  } else if (type == "lean") {
+  } else if (type == SceneType::lean) {
     walking::LeanParameters lean;
     lean.final_angle = scene_.lean.final_angle_deg * M_PI / 180.0;
     lean.start_time = scene_.lean.start_time;
@@ -153,22 +142,11 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
                                                        lifted, preview, posture);
     reference_ = pattern.reference;
   }
-  Eigen::VectorXd final_deflection; // compensated compliant ankles: springs at the end
-  if (scene_.robot.foot_form == FootForm::compliant_ankle &&
-      scene_.robot.ankle_deflection_compensation) {
-    const auto deflection =
-        walking::compensate_ankle_deflection(
-            reference_model_, reference_humanoid_, scene_.robot.ankle_compliance_centre,
-            scene_.robot.ankle_angular_stiffness, scene_.robot.ankle_linear_stiffness, reference_,
-            scene_.robot.leg_ik)
-            .deflection;
-    initial_deflection_ = deflection.row(0).transpose();
-    final_deflection = deflection.bottomRows<1>().transpose();
-  }
+  foot_model_->plan(reference_model_, reference_humanoid_, reference_);
   if (duration <= 0)
     duration = reference_.duration();
   n_steps_ = static_cast<int>(std::lround(duration / dt));
-  settle_time_ = type == "stand" ? sim.settle_time : 0.0;
+  settle_time_ = type == SceneType::stand ? sim.settle_time : 0.0;
 
   // Stepper and feet.
   multibody::StepperParameters stepper_parameters;
@@ -176,98 +154,17 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.theta = scene_.simulation.theta;
   stepper_parameters.normal_bias.restitution = scene_.contact.restitution;
   stepper_parameters.normal_bias.position_correction = scene_.contact.position_correction;
-  stepper_parameters.solver.solver = scene_.contact.solver == "admm"
-                                         ? contact::ContactSolverType::admm
-                                         : contact::ContactSolverType::gauss_seidel;
+  stepper_parameters.solver.solver = scene_.contact.solver;
   stepper_parameters.solver.tolerance = scene_.contact.tolerance;
   stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
   stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
   stepper_parameters.solver.sweep_skip = scene_.contact.sweep_skip;
-  const double mu = scene_.contact.friction;
-
-  Eigen::Matrix3Xd nodes;          // sole frame
-  Eigen::MatrixXd sole_compliance; // sole frame, 3 nodes.cols() square; empty: rigid points
-  if (scene_.robot.foot_form == FootForm::fem_sole) {
-    auto request = scene_.sole.mesh_request();
-    if (request.cache_directory.empty())
-      request.cache_directory = fem::default_mesh_cache();
-    const auto msh = fem::generate_mesh(request);
-    dealii::Triangulation<3> tria;
-    const auto groups = fem::import_mesh(msh, {"top", "bottom"}, tria);
-    const auto specs = fem::parse_material_specs(scene_.sole.materials, "Sole/Materials");
-    const bool hyperelastic = scene_.sole.model == "hyperelastic";
-    // Hyperelastic: the linear sole of the same small-strain E, nu (replaced below).
-    const fem::MaterialTable materials =
-        hyperelastic ? fem::HyperelasticMaterialTable(specs, groups).linearized()
-                     : fem::MaterialTable(specs, groups);
-    coupling::CondensationParameters condensation;
-    condensation.attached_boundary = groups.surface("top");
-    condensation.contact_boundary = groups.surface("bottom");
-    condensation.degree = scene_.sole.degree;
-    sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
-    nodes = sole_->contact_positions().transpose();
-    summary_.n_sole_nodes = sole_->n_contacts();
-    stepper_parameters.max_contacts = 2 * sole_->n_contacts();
-    sole_compliance = sole_->compliance();
-    if (scene_.sole_reduction.reduced()) {
-      // Reduced sole: bottom nodes grouped into patches, one contact per patch with the
-      // patch-averaged compliance (coupling/reduced_sole.h). The stepper's contacts are no
-      // longer the FEM nodes, so the condensed sole is released (no field output).
-      const auto& positions = sole_->contact_positions();
-      const coupling::ReducedSole reduced(
-          positions, sole_->compliance(),
-          coupling::ReducedSole::grid_patches(positions, scene_.sole_reduction.patches_x,
-                                              scene_.sole_reduction.patches_y));
-      nodes = reduced.patch_positions().transpose();
-      sole_compliance = reduced.compliance();
-      summary_.n_sole_nodes = reduced.n_patches();
-      stepper_parameters.max_contacts = 2 * reduced.n_patches();
-      sole_.reset();
-    }
-    if (hyperelastic) {
-      if (scene_.sole_reduction.reduced())
-        throw std::invalid_argument("Sole/Model = hyperelastic cannot be combined with a reduced "
-                                    "sole (Sole reduction): use one or the other");
-      build_hyperelastic_soles(tria, groups, nodes, sole_compliance);
-      summary_.n_sole_nodes = static_cast<int>(nodes.cols());
-      stepper_parameters.max_contacts = 2 * static_cast<int>(nodes.cols());
-      sole_.reset(); // its node order is not the hyperelastic soles' one
-    }
-  } else {
-    const double a = scene_.sole.length / 2, b = scene_.sole.width / 2;
-    nodes.resize(3, 8);
-    nodes << a, a, a, 0, -a, -a, -a, 0, //
-        -b, 0, b, b, b, 0, -b, -b,      //
-        0, 0, 0, 0, 0, 0, 0, 0;
-    stepper_parameters.max_contacts = 16;
-  }
+  stepper_parameters.max_contacts = foot_model_->max_contacts();
   stepper_ = std::make_unique<multibody::Stepper>(model_, stepper_parameters);
   stepper_->set_gains(
       multibody::PdGains::Uniform(model_, scene_.control.stiffness, scene_.control.damping));
-  for (int foot = 0; foot < 2; ++foot) {
-    const multibody::Frame& frame = model_.frames[sole_frames_[foot]];
-    Eigen::Matrix3Xd body_nodes(3, nodes.cols());
-    for (int k = 0; k < nodes.cols(); ++k)
-      body_nodes.col(k) = frame.placement.act_point(nodes.col(k));
-    if (sole_compliance.size() > 0) {
-      // C in the body frame: R C R^T per 3x3 block, R = sole -> body rotation
-      // (identity "contact" frames: the stepper projects onto its own frames).
-      const int n = static_cast<int>(nodes.cols());
-      const Eigen::MatrixXd identity_frames = Eigen::Matrix3d::Identity().replicate(1, n);
-      Eigen::MatrixXd compliance(3 * n, 3 * n);
-      coupling::rotate_compliance_to_contact_frames(sole_compliance, frame.placement.rotation,
-                                                    identity_frames, compliance);
-      pads_[foot] = std::make_unique<coupling::PadState>(compliance);
-      const int patch = stepper_->add_deformable_patch(frame.body, body_nodes, mu, *pads_[foot]);
-      pads_[foot]->set_damping(scene_.sole.damping_time);
-      for (int k = 0; k < n; ++k)
-        feet_[foot].push_back({k, patch, frame.body, body_nodes.col(k)});
-    } else {
-      for (int k = 0; k < body_nodes.cols(); ++k)
-        feet_[foot].push_back({stepper_->add_contact_point(frame.body, body_nodes.col(k), mu), -1,
-                               frame.body, body_nodes.col(k)});
-    }
-  }
+  foot_model_->attach(*stepper_, model_, sole_frames_, scene_.contact.friction);
+  foot_model_->summarize(summary_);
 
   // Initial state: the reference at t = 0, lifted; at rest.
   q_ = model_.neutral_configuration();
@@ -277,17 +174,8 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   q_ref_ = q_;
   reference_at(0.0, q_);
   q_ref_prev_ = q_;
-  // Compensated compliant ankles start on their predicted deflection (feet on the ground).
-  const auto set_springs = [&](const Eigen::VectorXd& deflection, Eigen::VectorXd& q) {
-    for (int foot = 0; foot < 2 && deflection.size() == 6; ++foot) {
-      const std::string& link = scene_.robot.humanoid.foot_links[foot];
-      const char* const dofs[3] = {"_compliance_z", "_compliance_pitch", "_compliance_roll"};
-      for (int i = 0; i < 3; ++i)
-        q[model_.idx_q[model_.joint_id(link + dofs[i])]] = deflection[3 * foot + i];
-    }
-  };
-  set_springs(initial_deflection_, q_);
-  if (type == "drop") {
+  foot_model_->set_state(false, q_); // e.g. compensated ankles: the predicted deflection
+  if (type == SceneType::drop) {
     // The planned (reference) base is on the ground: lift_ only applies to the initial state.
     lift_ -= sim.release_height;
   }
@@ -296,7 +184,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   {
     Eigen::VectorXd q_end = q_;
     reference_at(n_steps_ * dt, q_end);
-    set_springs(final_deflection, q_end); // the planned feet, not the compensated legs' ends
+    foot_model_->set_state(true, q_end); // the planned feet, not the compensated legs' ends
     multibody::forward_kinematics(model_, data_, q_end);
     summary_.planned_right_sole =
         multibody::frame_placement(model_, data_, sole_frames_[0]).translation;
@@ -319,7 +207,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
                           "zmp_y", "n_contacts", "solver_iterations", "solver_residual"},
                          rows);
   summary_.time_step = dt;
-  summary_.setup_wall_time = seconds_since(start);
+  summary_.setup_wall_time = seconds_since(setup_start_);
 }
 
 HumanoidSimulation::~HumanoidSimulation() = default;
@@ -337,72 +225,9 @@ void HumanoidSimulation::reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_ou
     q_out[joint_q_[j]] = angles_[j];
 }
 
-void HumanoidSimulation::build_hyperelastic_soles(const dealii::Triangulation<3>& tria,
-                                                  const fem::PhysicalGroups& groups,
-                                                  Eigen::Matrix3Xd& nodes,
-                                                  Eigen::MatrixXd& compliance) {
-  const fem::HyperelasticMaterialTable laws(
-      fem::parse_material_specs(scene_.sole.materials, "Sole/Materials"), groups);
-  coupling::NonlinearCouplingParameters parameters;
-  parameters.sole.attached_boundary = groups.surface("top");
-  parameters.sole.contact_boundary = groups.surface("bottom");
-  parameters.sole.newton.formulation = scene_.sole.mixed
-                                           ? fem::NonlinearSettings::Formulation::mixed
-                                           : fem::NonlinearSettings::Formulation::displacement;
-  parameters.sole.recondensation_tolerance = scene_.sole.recondensation_tolerance;
-  parameters.check_tolerance = scene_.sole.check_tolerance;
-  for (auto& sole : hyperelastic_)
-    sole = std::make_unique<coupling::NonlinearCondensedSole>(tria, laws, scene_.sole.degree,
-                                                              parameters);
-  nodes = hyperelastic_[0]->contact_positions().transpose();
-  compliance = hyperelastic_[0]->compliance();
-  const int n = static_cast<int>(nodes.cols());
-  sole_forces_.setZero(3 * n);
-  sole_offset_.setZero(3 * n);
-  sole_compliance_.setZero(3 * n, 3 * n);
-  summary_.sole_recondensation_tolerance = parameters.sole.recondensation_tolerance;
-}
-
-void HumanoidSimulation::update_hyperelastic_soles() {
-  for (int foot = 0; foot < 2; ++foot) {
-    coupling::NonlinearCondensedSole& sole = *hyperelastic_[foot];
-    const multibody::Frame& frame = model_.frames[sole_frames_[foot]];
-    // Node forces in the sole frame: contact frame (n, t1, t2) = world (z, x, y) -> body -> sole.
-    const Eigen::Matrix3d world_to_sole =
-        frame.placement.rotation.transpose() * data_.oMi[frame.body].rotation.transpose();
-    for (const FootContact& c : feet_[foot]) {
-      const Eigen::Vector3d f = pads_[foot]->node_force(c.point); // F at the step's end
-      sole_forces_.segment<3>(3 * c.point) = world_to_sole * contact::ground_to_world(f);
-    }
-    coupling::NonlinearUpdateReport report;
-    try {
-      report = sole.update(sole_forces_);
-    } catch (const std::exception& e) {
-      fail(std::string(foot == 0 ? "right" : "left") + " hyperelastic sole: " + e.what());
-    }
-    if (report.recondensed) {
-      // Body frame: R C R^T per 3x3 block and R d per node, R = sole -> body rotation.
-      const Eigen::Matrix3d& r = frame.placement.rotation;
-      const int n = sole.n_contacts();
-      for (int i = 0; i < n; ++i) {
-        sole_offset_.segment<3>(3 * i) = r * sole.offset().segment<3>(3 * i);
-        for (int j = 0; j < n; ++j)
-          sole_compliance_.block<3, 3>(3 * i, 3 * j) =
-              r * sole.compliance().block<3, 3>(3 * i, 3 * j) * r.transpose();
-      }
-      pads_[foot]->set_compliance(sole_compliance_, sole_offset_);
-    }
-  }
-  summary_.sole_newton_checks = hyperelastic_[0]->n_checks() + hyperelastic_[1]->n_checks();
-  summary_.sole_recondensations = static_cast<int>(hyperelastic_[0]->n_recondensations() +
-                                                   hyperelastic_[1]->n_recondensations());
-  summary_.sole_tolerated_error =
-      std::max(hyperelastic_[0]->max_tolerated_error(), hyperelastic_[1]->max_tolerated_error());
-}
-
 void HumanoidSimulation::fail(const std::string& what) const {
   std::ostringstream msg;
-  msg << scene_.type << " (" << to_string(scene_.robot.foot_form) << "): step " << step_
+  msg << to_string(scene_.type) << " (" << to_string(scene_.robot.foot_form) << "): step " << step_
       << ", t = " << step_ * summary_.time_step << " s: " << what;
   throw std::runtime_error(msg.str());
 }
@@ -486,28 +311,16 @@ void HumanoidSimulation::step() {
 
   // Contacts: forces, centres of pressure, ZMP, penetration.
   multibody::forward_kinematics(model_, data_, q_);
-  std::array<Eigen::Vector3d, 2> force, moment; // moment: (sum f_z x, sum f_z y, -)
   for (int foot = 0; foot < 2; ++foot) {
-    force[foot].setZero();
-    moment[foot].setZero();
-    for (const FootContact& c : feet_[foot]) {
-      // Sole nodes: the force at the step's end; points: the step's impulse / dt.
-      const Eigen::Vector3d p = c.patch >= 0
-                                    ? pads_[foot]->node_force(c.point)
-                                    : Eigen::Vector3d(stepper_->point_impulse(c.point) / dt);
-      const Eigen::Vector3d f = contact::ground_to_world(p);
-      const Eigen::Vector3d x = data_.oMi[c.body].act_point(c.position);
-      force[foot] += f;
-      moment[foot].x() += f.z() * x.x();
-      moment[foot].y() += f.z() * x.y();
-      double z = x.z();
-      if (c.patch >= 0)
-        z += pads_[foot]->displacement()[3 * c.point];
-      summary_.max_penetration = std::max(summary_.max_penetration, -z);
-    }
+    foot_model_->report(foot, data_, dt, foot_reports_[foot]);
+    summary_.max_penetration = std::max(summary_.max_penetration, foot_reports_[foot].depth);
   }
-  if (hyperelastic_[0])
-    update_hyperelastic_soles();
+  try {
+    foot_model_->update(data_);
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+  foot_model_->summarize(summary_);
   if (summary_.max_penetration > scene_.simulation.max_penetration) {
     std::ostringstream msg;
     msg << "a contact point is " << summary_.max_penetration
@@ -515,7 +328,9 @@ void HumanoidSimulation::step() {
         << scene_.simulation.max_penetration << " m";
     fail(msg.str());
   }
-  summary_.final_contact_force = force[0] + force[1];
+  const Eigen::Vector3d& force_r = foot_reports_[0].force;
+  const Eigen::Vector3d& force_l = foot_reports_[1].force;
+  summary_.final_contact_force = force_r + force_l;
   summary_.n_steps = step_;
   summary_.simulated_time = t;
   if (step_ == n_steps_) {
@@ -548,17 +363,21 @@ void HumanoidSimulation::step() {
   cr[0] = t;
   const double min_load = 1.0; // N: below it a foot's CoP is not defined (nan)
   for (int foot = 0; foot < 2; ++foot) {
+    const Eigen::Vector3d& force = foot_reports_[foot].force;
+    const Eigen::Vector3d& moment = foot_reports_[foot].moment;
     const int c0 = 1 + 5 * foot;
-    cr[c0] = force[foot].x();
-    cr[c0 + 1] = force[foot].y();
-    cr[c0 + 2] = force[foot].z();
-    const bool loaded = force[foot].z() > min_load;
-    cr[c0 + 3] = loaded ? moment[foot].x() / force[foot].z() : nan;
-    cr[c0 + 4] = loaded ? moment[foot].y() / force[foot].z() : nan;
+    cr[c0] = force.x();
+    cr[c0 + 1] = force.y();
+    cr[c0 + 2] = force.z();
+    const bool loaded = force.z() > min_load;
+    cr[c0 + 3] = loaded ? moment.x() / force.z() : nan;
+    cr[c0 + 4] = loaded ? moment.y() / force.z() : nan;
   }
-  const double fz = force[0].z() + force[1].z();
-  cr[11] = fz > min_load ? (moment[0].x() + moment[1].x()) / fz : nan;
-  cr[12] = fz > min_load ? (moment[0].y() + moment[1].y()) / fz : nan;
+  const Eigen::Vector3d& moment_r = foot_reports_[0].moment;
+  const Eigen::Vector3d& moment_l = foot_reports_[1].moment;
+  const double fz = force_r.z() + force_l.z();
+  cr[11] = fz > min_load ? (moment_r.x() + moment_l.x()) / fz : nan;
+  cr[12] = fz > min_load ? (moment_r.y() + moment_l.y()) / fz : nan;
   cr[13] = report.n_contacts;
   cr[14] = report.solver.iterations;
   cr[15] = report.solver.residual;

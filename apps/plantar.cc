@@ -150,7 +150,7 @@ int run(const std::vector<std::string>& args) {
   const app::Scene scene = app::load_scene(scene_file, prm);
   const std::filesystem::path out = output_directory(scene_file, output);
 
-  if (scene.type != "static sole" && !scene.robot.foot_forms.empty()) {
+  if (scene.type != app::SceneType::static_sole && !scene.robot.foot_forms.empty()) {
     fem::write_file_atomically(out / "parameters.prm", [&](std::ostream& os) {
       prm.print_parameters(os, dealii::ParameterHandler::PRM);
     });
@@ -159,10 +159,10 @@ int run(const std::vector<std::string>& args) {
     return status;
   }
   std::ostringstream summary;
-  summary << "scene: " << scene_file << " (" << scene.type << ")\n";
+  summary << "scene: " << scene_file << " (" << app::to_string(scene.type) << ")\n";
   app::HumanoidSummary humanoid;
   try {
-    if (scene.type == "static sole") {
+    if (scene.type == app::SceneType::static_sole) {
       const auto result = app::run_static_sole(scene, out);
       summary << "sole: " << result.n_cells << " cells, " << result.n_dofs << " dofs\n"
               << "maximum displacement: " << result.max_displacement * 1e3 << " mm\n"
@@ -183,10 +183,10 @@ int run(const std::vector<std::string>& args) {
   });
   fem::write_file_atomically(out / "summary.txt", [&](std::ostream& os) { os << summary.str(); });
   // Last: its presence marks a finished run (plantar sweep).
-  if (scene.type != "static sole")
-    app::write_summary_csv(out / "summary.csv", scene, humanoid);
+  if (scene.type != app::SceneType::static_sole)
+    app::write_summary_csv(out / "summary.csv", humanoid);
   std::cout << "outputs in " << out.string() << "\n";
-  if (figures && scene.type != "static sole" && scene.output.write_csv &&
+  if (figures && scene.type != app::SceneType::static_sole && scene.output.write_csv &&
       app::plot_directory(out) != 0) {
     std::cerr << "plantar run: the figures of " << out.string() << " failed\n";
     return 1;

@@ -1,5 +1,6 @@
 #include "apps/scene.h"
 
+#include "apps/choice.h"
 #include "fem/exception_text.h"
 
 #include <fstream>
@@ -11,6 +12,18 @@ namespace plantar::app {
 using dealii::Patterns::Bool;
 using dealii::Patterns::Double;
 using dealii::Patterns::Selection;
+
+namespace {
+const ChoiceTable<SceneType> scene_types{{SceneType::static_sole, "static sole"},
+                                         {SceneType::stand, "stand"},
+                                         {SceneType::drop, "drop"},
+                                         {SceneType::lean, "lean"},
+                                         {SceneType::walk, "walk"}};
+} // namespace
+
+const char* to_string(SceneType type) {
+  return choice_name(scene_types, type);
+}
 
 void StaticLoadParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Total normal force", "600", Double(),
@@ -52,7 +65,7 @@ void OutputParameters::parse(dealii::ParameterHandler& prm) {
 }
 
 void Scene::declare(dealii::ParameterHandler& prm) {
-  prm.declare_entry("Scene type", "static sole", Selection("static sole|stand|drop|lean|walk"),
+  prm.declare_entry("Scene type", to_string(Scene().type), choice_pattern(scene_types),
                     "static sole: the sole under a uniform ground reaction (Static load); "
                     "stand: the robot standing still (bent knees) for Simulation/Duration; "
                     "drop: straight legs, released Simulation/Release height above the ground; "
@@ -94,7 +107,7 @@ void Scene::declare(dealii::ParameterHandler& prm) {
 }
 
 void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& scene_directory) {
-  type = prm.get("Scene type");
+  type = parse_choice(scene_types, prm.get("Scene type"), "Scene type");
   prm.enter_subsection("Sole");
   sole.parse(prm, scene_directory);
   sole_reduction.parse(prm);

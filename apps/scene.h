@@ -34,8 +34,19 @@ struct OutputParameters {
   void parse(dealii::ParameterHandler& prm);
 };
 
+/// Scene type: what a run does.
+enum class SceneType {
+  static_sole, ///< the sole alone under a uniform load (static_sole_job.h)
+  stand,       ///< humanoid scenes (humanoid_simulation.h): standing still,
+  drop,        ///< released above the ground,
+  lean,        ///< waist roll ramp,
+  walk,        ///< the walk of subsection Walking
+};
+/// The scene-file name of @p type ("static sole", "stand", ...).
+const char* to_string(SceneType type);
+
 struct Scene {
-  std::string type = "static sole"; ///< static sole | stand | drop | lean | walk
+  SceneType type = SceneType::static_sole;
   fem::SoleParameters sole;
   SoleReductionParameters sole_reduction; ///< subsection Sole, humanoid scenes (fem sole)
   StaticLoadParameters static_load;

@@ -2,7 +2,8 @@
 // The ParaView series of a humanoid run: one frame per call of write(), in the world frame.
 //
 // <directory>/vtk/links_NNNNNN.vtp        the robot's links (scene_vtk_links.h)
-// <directory>/vtk/sole_{right,left}_NNNNNN.vtu   (Foot form = fem sole) each sole, its points
+// <directory>/vtk/sole_{right,left}_NNNNNN.vtu   (foot models with fields: FootModel::
+//     write_fields; the FEM soles of apps/sole_patch_foot.h) each sole, its points
 //     at their undeformed positions x = R_s X + p_s (X: mesh coordinates, R_s, p_s: the
 //     r_sole/l_sole frame in the world), with point data
 //       displacement          u = R_s u_sole (m, world), u_sole recovered from the contact
@@ -29,8 +30,6 @@
 #include "apps/scene_vtk_links.h"
 #include "multibody/data.h"
 
-#include <deal.II/lac/vector.h>
-
 #include <array>
 #include <filesystem>
 #include <memory>
@@ -42,7 +41,7 @@ namespace plantar::app {
 class SceneVtkWriter {
 public:
   /// Prepares the link shapes (@p urdf_file: the model's URDF; @p stick_radius, m, > 0) and
-  /// the sole workspaces of @p simulation, and creates <directory>/vtk.
+  /// asks @p simulation's foot model whether it has sole fields; creates <directory>/vtk.
   SceneVtkWriter(const HumanoidSimulation& simulation, const std::filesystem::path& urdf_file,
                  double stick_radius, const std::filesystem::path& directory);
   ~SceneVtkWriter();
@@ -52,17 +51,12 @@ public:
   int n_frames() const { return static_cast<int>(times_.size()); }
 
 private:
-  void write_sole(const HumanoidSimulation& simulation, int foot,
-                  const std::filesystem::path& path);
   void write_pvd() const;
 
   std::filesystem::path directory_;
   std::vector<LinkShape> shapes_;
   multibody::Data data_;
-  dealii::Vector<double> displacement_, contact_displacement_, force_;
-  dealii::Vector<double> pressure_; // (contact_pressure, contact_node flag, 0) per node
-  Eigen::VectorXd contact_u_;       // 3 n_c, sole frame
-  Eigen::VectorXd area_;            // n_c, consistent node areas (m^2)
+  bool has_soles_ = false; ///< the foot model writes sole fields
   std::vector<double> times_;
 };
 

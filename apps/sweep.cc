@@ -157,7 +157,7 @@ std::vector<SweepPoint> sweep_points(const Scene& scene) {
 
 int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& output, int jobs,
               const fs::path& executable) {
-  if (scene.type == "static sole")
+  if (scene.type == SceneType::static_sole)
     throw std::invalid_argument("Scene type = static sole: plantar sweep needs a humanoid scene "
                                 "(stand, drop, lean or walk)");
   const auto start = std::chrono::steady_clock::now();
@@ -271,9 +271,9 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::ostringstream summary;
-  summary << "sweep: " << scene_file.string() << " (" << scene.type << "), " << points.size()
-          << " points: " << n_done_before << " done before, " << pending.size() << " run now; "
-          << n_failed << " failed, " << n_missing << " missing\n"
+  summary << "sweep: " << scene_file.string() << " (" << to_string(scene.type) << "), "
+          << points.size() << " points: " << n_done_before << " done before, " << pending.size()
+          << " run now; " << n_failed << " failed, " << n_missing << " missing\n"
           << "wall time " << wall << " s with " << jobs << " process(es)\n";
   if (n_failed)
     summary << "failed points:\n" << failures.str();

@@ -30,6 +30,7 @@
 
 #include "apps/humanoid_simulation.h"
 #include "apps/scene.h"
+#include "apps/sole_patch_foot.h"
 #include "fem/exception_text.h"
 
 #include <algorithm>
@@ -131,7 +132,8 @@ void run_one(const Scene& scene, Result& result, int repeat) {
           impulse.push_back(stepper.total_contact_force().z() * dt);
           if (fem)
             for (int foot = 0; foot < 2; ++foot) {
-              const Eigen::VectorXd& u = s.pad(foot)->displacement(); // (n, t1, t2) per node
+              const Eigen::VectorXd& u = // (n, t1, t2) per node
+                  dynamic_cast<const SolePatchFoot&>(s.foot_model()).pad(foot).displacement();
               for (Eigen::Index k = 0; k < u.size(); k += 3)
                 max_deformation = std::max(max_deformation, std::abs(u[k]));
             }
@@ -325,7 +327,7 @@ int main(int argc, char** argv) {
     }
     base.robot.foot_form = FootForm::fem_sole;
     base.output.write_vtu = false;
-    const double duration = base.type == "drop" ? duration_drop : duration_walk;
+    const double duration = base.type == SceneType::drop ? duration_drop : duration_walk;
     if (duration > 0)
       base.simulation.duration = duration;
     const double h0 = base.sole.mesh_size, dt0 = base.simulation.time_step;
@@ -399,10 +401,11 @@ int main(int argc, char** argv) {
         Scene scene = base;
         variant.apply(scene);
         Result r;
-        r.scene = base.type;
+        r.scene = to_string(base.type);
         r.knob = variant.knob;
         r.value = variant.value;
-        std::cerr << base.type << ": " << r.knob << " = " << r.value << " ..." << std::flush;
+        std::cerr << to_string(base.type) << ": " << r.knob << " = " << r.value << " ..."
+                  << std::flush;
         run_one(scene, r, repeat);
         std::cerr << " " << r.status << ", " << fmt(r.wall / std::max(r.simulated, 1e-12))
                   << " s/s\n";
@@ -417,9 +420,9 @@ int main(int argc, char** argv) {
       // Nonlinear against linear: the linear full sole against the hyperelastic reference.
       const Result *linear = nullptr, *nonlinear = nullptr;
       for (const auto& r : results)
-        if (r.scene == base.type && r.knob == "sole model" && r.value == "full")
+        if (r.scene == to_string(base.type) && r.knob == "sole model" && r.value == "full")
           linear = &r;
-        else if (r.scene == base.type && r.knob == "hyperelastic tol" && r.reference)
+        else if (r.scene == to_string(base.type) && r.knob == "hyperelastic tol" && r.reference)
           nonlinear = &r;
       if (linear && nonlinear) {
         Result r = *linear;
@@ -433,7 +436,7 @@ int main(int argc, char** argv) {
     Scene rigid = base;
     rigid.robot.foot_form = FootForm::rigid;
     Result r;
-    r.scene = base.type;
+    r.scene = to_string(base.type);
     r.knob = "rigid feet";
     r.value = "rigid";
     r.reference = true;

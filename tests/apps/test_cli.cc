@@ -52,7 +52,7 @@ TEST(Cli, DefaultSceneIsTheWalkComparisonOfWalkPrm) {
   const auto comparison = plantar::app::load_scene(source + "default.prm", default_prm);
   plantar::app::load_scene(source + "walk.prm", walk_prm);
   ASSERT_EQ(comparison.robot.foot_forms.size(), 3u);
-  EXPECT_EQ(comparison.type, "walk");
+  EXPECT_EQ(comparison.type, plantar::app::SceneType::walk);
   default_prm.enter_subsection("Robot");
   default_prm.set("Foot forms", "");
   default_prm.leave_subsection();

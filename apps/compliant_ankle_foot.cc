@@ -1,0 +1,51 @@
+#include "apps/compliant_ankle_foot.h"
+
+#include "apps/scene.h"
+#include "multibody/walking/ankle_compensation.h"
+
+namespace plantar::app {
+
+std::array<std::string, 3> ankle_spring_joints(const std::string& foot_link) {
+  return {foot_link + "_compliance_z", foot_link + "_compliance_pitch",
+          foot_link + "_compliance_roll"};
+}
+
+CompliantAnkleFoot::CompliantAnkleFoot(const Scene& scene)
+    : RigidFoot(scene), robot_(scene.robot) {}
+
+void CompliantAnkleFoot::configure_model(multibody::ModelOptions& options) const {
+  const RobotParameters& robot = robot_;
+  auto& ankle = options.compliant_ankle;
+  ankle.foot_links = {robot.humanoid.foot_links[0], robot.humanoid.foot_links[1]};
+  ankle.center_in_foot = robot.ankle_compliance_centre;
+  ankle.linear_stiffness = robot.ankle_linear_stiffness;
+  ankle.linear_damping = robot.ankle_linear_damping;
+  ankle.angular_stiffness = robot.ankle_angular_stiffness;
+  ankle.angular_damping = robot.ankle_angular_damping;
+}
+
+void CompliantAnkleFoot::plan(const multibody::Model& reference_model,
+                              const walking::Humanoid& humanoid,
+                              walking::JointReference& reference) {
+  const RobotParameters& robot = robot_;
+  if (!robot.ankle_deflection_compensation)
+    return;
+  const auto deflection =
+      walking::compensate_ankle_deflection(reference_model, humanoid, robot.ankle_compliance_centre,
+                                           robot.ankle_angular_stiffness,
+                                           robot.ankle_linear_stiffness, reference, robot.leg_ik)
+          .deflection;
+  initial_deflection_ = deflection.row(0).transpose();
+  final_deflection_ = deflection.bottomRows<1>().transpose();
+}
+
+void CompliantAnkleFoot::set_state(bool at_end, Eigen::VectorXd& q) const {
+  const Eigen::VectorXd& deflection = at_end ? final_deflection_ : initial_deflection_;
+  for (int foot = 0; foot < 2 && deflection.size() == 6; ++foot) {
+    const auto joints = ankle_spring_joints(robot_.humanoid.foot_links[foot]);
+    for (int i = 0; i < 3; ++i)
+      q[model_->idx_q[model_->joint_id(joints[i])]] = deflection[3 * foot + i];
+  }
+}
+
+} // namespace plantar::app

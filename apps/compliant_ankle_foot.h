@@ -1,0 +1,34 @@
+#pragma once
+// Foot form "compliant ankle": the rigid outline points (rigid_foot.h) under a passive 3-DoF
+// spring-damper between each foot link and its ankle (z, pitch, roll; paper eq. 13, built by
+// multibody::ModelOptions::compliant_ankle from Robot/Ankle *). With Robot/Ankle deflection
+// compensation the reference is compensated (multibody/walking/ankle_compensation.h) and
+// the run starts with the springs at their predicted deflection.
+
+#include "apps/humanoid_parameters.h"
+#include "apps/rigid_foot.h"
+
+#include <string>
+
+namespace plantar::app {
+
+/// The spring joints that multibody/urdf_loader.cc inserts above @p foot_link: z, pitch, roll.
+std::array<std::string, 3> ankle_spring_joints(const std::string& foot_link);
+
+class CompliantAnkleFoot : public RigidFoot {
+public:
+  explicit CompliantAnkleFoot(const Scene& scene);
+  void configure_model(multibody::ModelOptions& options) const override;
+  void plan(const multibody::Model& reference_model, const walking::Humanoid& humanoid,
+            walking::JointReference& reference) override;
+  /// The springs' deflection (compensated ankles), else leaves @p q.
+  void set_state(bool at_end, Eigen::VectorXd& q) const override;
+
+private:
+  RobotParameters robot_;
+  /// Compensated ankles: spring deflection (u, theta_p, theta_r per foot) at t = 0 and at the
+  /// end; empty: none.
+  Eigen::VectorXd initial_deflection_, final_deflection_;
+};
+
+} // namespace plantar::app

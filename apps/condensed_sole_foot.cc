@@ -1,0 +1,72 @@
+#include "apps/condensed_sole_foot.h"
+
+#include "apps/scene.h"
+#include "coupling/condensed_sole.h"
+#include "coupling/reduced_sole.h"
+#include "fem/field_output.h"
+#include "fem/material_table.h"
+
+namespace plantar::app {
+
+CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole.thickness) {
+  dealii::Triangulation<3> tria;
+  const auto groups = mesh_sole(scene.sole, tria);
+  const auto specs = fem::parse_material_specs(scene.sole.materials, "Sole/Materials");
+  const fem::MaterialTable materials(specs, groups);
+  coupling::CondensationParameters condensation;
+  condensation.attached_boundary = groups.surface("top");
+  condensation.contact_boundary = groups.surface("bottom");
+  condensation.degree = scene.sole.degree;
+  sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
+  if (!scene.sole_reduction.reduced()) {
+    set_patch(sole_->contact_positions().transpose(), sole_->compliance(), scene.sole.damping_time);
+    return;
+  }
+  // Reduced sole: bottom nodes grouped into patches, one contact per patch with the
+  // patch-averaged compliance (coupling/reduced_sole.h). The stepper's contacts are no
+  // longer the FEM nodes, so the condensed sole is released (no field output).
+  const auto& positions = sole_->contact_positions();
+  const coupling::ReducedSole reduced(
+      positions, sole_->compliance(),
+      coupling::ReducedSole::grid_patches(positions, scene.sole_reduction.patches_x,
+                                          scene.sole_reduction.patches_y));
+  set_patch(reduced.patch_positions().transpose(), reduced.compliance(), scene.sole.damping_time);
+  sole_.reset();
+}
+
+CondensedSoleFoot::~CondensedSoleFoot() = default;
+
+SolePatchFoot::SoleMesh CondensedSoleFoot::sole_mesh(int foot) const {
+  (void)foot; // one sole for both feet
+  return {&sole_->elasticity().dof_handler(), &sole_->elasticity().discretization(),
+          &sole_->contact_dofs()};
+}
+
+const Eigen::VectorXd& CondensedSoleFoot::node_areas(int foot) const {
+  (void)foot;
+  if (area_.size() == 0) {
+    const int n_c = sole_->n_contacts();
+    Eigen::VectorXd unit_load(3 * n_c);
+    sole_->contact_load(Eigen::Vector3d(0, 0, 1), unit_load);
+    area_.resize(n_c);
+    for (int k = 0; k < n_c; ++k)
+      area_[k] = unit_load[3 * k + 2];
+  }
+  return area_;
+}
+
+const dealii::Vector<double>&
+CondensedSoleFoot::displacement_field(int foot, const Eigen::VectorXd& contact_u,
+                                      dealii::Vector<double>& workspace) const {
+  (void)foot;
+  sole_->recover(contact_u, workspace); // u_n = -K_nn^-1 K_nc u_c
+  return workspace;
+}
+
+std::unique_ptr<dealii::DataPostprocessor<3>>
+CondensedSoleFoot::stress_postprocessor(int foot) const {
+  (void)foot;
+  return std::make_unique<fem::StressPostprocessor>(sole_->elasticity().materials());
+}
+
+} // namespace plantar::app

@@ -1,0 +1,42 @@
+#pragma once
+// Foot form "fem sole" with Sole/Model = linear: the linear FEM sole of subsection Sole,
+// condensed onto its bottom nodes (coupling/condensed_sole.h, paper eq. 11), one compliant
+// patch per foot; with Sole/Reduced patches the reduced sole (coupling/reduced_sole.h: one
+// contact per patch of bottom nodes, no field output). The robot is lifted by Sole/Thickness.
+
+#include "apps/sole_patch_foot.h"
+
+namespace plantar::coupling {
+class CondensedSole;
+}
+
+namespace plantar::app {
+
+struct Scene;
+
+class CondensedSoleFoot : public SolePatchFoot {
+public:
+  /// Meshes and condenses the sole of @p scene (the long part of a run's set-up).
+  explicit CondensedSoleFoot(const Scene& scene);
+  ~CondensedSoleFoot() override;
+  double lift() const override { return thickness_; }
+  /// The full condensed sole has fields; the reduced one not.
+  bool has_fields() const override { return sole_ != nullptr; }
+  /// The condensed sole (both feet), or nullptr for the reduced sole.
+  const coupling::CondensedSole* sole() const { return sole_.get(); }
+
+protected:
+  SoleMesh sole_mesh(int foot) const override;
+  const Eigen::VectorXd& node_areas(int foot) const override;
+  const dealii::Vector<double>&
+  displacement_field(int foot, const Eigen::VectorXd& contact_u,
+                     dealii::Vector<double>& workspace) const override;
+  std::unique_ptr<dealii::DataPostprocessor<3>> stress_postprocessor(int foot) const override;
+
+private:
+  double thickness_ = 0;
+  std::unique_ptr<coupling::CondensedSole> sole_;
+  mutable Eigen::VectorXd area_; ///< node_areas, computed at the first call
+};
+
+} // namespace plantar::app

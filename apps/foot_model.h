@@ -1,0 +1,95 @@
+#pragma once
+// How the feet of a humanoid scene touch the ground: one interface, one implementation per
+// foot form (rigid_foot.h, compliant_ankle_foot.h, condensed_sole_foot.h,
+// hyperelastic_sole_foot.h), created by make_foot_model (foot_model_registry.h).
+//
+// HumanoidSimulation calls, in this order: configure_model (before the model is built),
+// lift, plan (once the reference exists), max_contacts, attach (the stepper's contacts of
+// both feet), set_state (initial and planned final configurations); then after every step
+// update and report; output writers ask has_fields / write_fields.
+
+#include "apps/humanoid_summary.h"
+#include "multibody/data.h"
+#include "multibody/model.h"
+#include "multibody/spatial.h"
+#include "multibody/urdf_loader.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <filesystem>
+
+namespace plantar::multibody {
+class Stepper;
+}
+namespace plantar::walking {
+struct Humanoid;
+struct JointReference;
+} // namespace plantar::walking
+
+namespace plantar::app {
+
+/// One foot's contacts after a step (world frame).
+struct FootReport {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  ///< N, sum of the contact forces
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero(); ///< (sum f_z x, sum f_z y, 0), N m
+  double depth = 0; ///< m, deepest contact point below z = 0 (deformed sole included)
+};
+
+class FootModel {
+public:
+  virtual ~FootModel() = default;
+
+  /// Adds this form's parts of the robot (e.g. compliant ankle joints) to @p options.
+  virtual void configure_model(multibody::ModelOptions& options) const { (void)options; }
+  /// Lift of the robot above the reference (m, >= 0): what the form adds under the sole frames.
+  virtual double lift() const { return 0.0; }
+  /// Called once the joint reference (on the robot without this form's joints) exists; may
+  /// adapt it (e.g. compensate the ankle springs' deflection).
+  virtual void plan(const multibody::Model& reference_model, const walking::Humanoid& humanoid,
+                    walking::JointReference& reference) {
+    (void)reference_model, (void)humanoid, (void)reference;
+  }
+  /// Contact points of both feet together: the stepper's capacity.
+  virtual int max_contacts() const = 0;
+  /// Adds the contacts of both feet to @p stepper; @p sole_frames: model frames of the right
+  /// (0) and left (1) sole; @p friction: Coulomb mu. The stepper and model must outlive this.
+  void attach(multibody::Stepper& stepper, const multibody::Model& model,
+              const std::array<int, 2>& sole_frames, double friction) {
+    stepper_ = &stepper;
+    model_ = &model;
+    sole_frames_ = sole_frames;
+    add_contacts(friction);
+  }
+  /// Sets this form's own coordinates of @p q (size model.nq): their state at t = 0, or
+  /// (@p at_end) the planned one at the end.
+  virtual void set_state(bool at_end, Eigen::VectorXd& q) const { (void)at_end, (void)q; }
+  /// After a step (@p data: kinematics of the step's end). No heap allocation. Throws
+  /// std::runtime_error naming the foot on failure.
+  virtual void update(const multibody::Data& data) { (void)data; }
+  /// Contacts of foot @p foot (0 right, 1 left) after the step of @p dt (s). No heap allocation.
+  virtual void report(int foot, const multibody::Data& data, double dt, FootReport& out) const = 0;
+  /// Fills this form's figures of @p summary (contact nodes, sole statistics).
+  virtual void summarize(HumanoidSummary& summary) const { (void)summary; }
+  /// Whether write_fields writes anything (a field per sole).
+  virtual bool has_fields() const { return false; }
+  /// Writes the fields of foot @p foot as a .vtu at @p path, the sole frame at @p placement
+  /// (world). Allocates (output steps only).
+  virtual void write_fields(int foot, const multibody::SE3& placement,
+                            const std::filesystem::path& path) const {
+    (void)foot, (void)placement, (void)path;
+  }
+
+  /// Model frame of the right (0) or left (1) sole; valid after attach.
+  int sole_frame(int foot) const { return sole_frames_[foot]; }
+
+protected:
+  /// attach's own part: the contacts of both feet.
+  virtual void add_contacts(double friction) = 0;
+
+  multibody::Stepper* stepper_ = nullptr;
+  const multibody::Model* model_ = nullptr;
+  std::array<int, 2> sole_frames_{};
+};
+
+} // namespace plantar::app

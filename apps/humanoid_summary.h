@@ -1,0 +1,51 @@
+#pragma once
+// The figures of a humanoid run (apps/humanoid_simulation.h), filled during the time loop.
+
+#include <Eigen/Core>
+
+namespace plantar::app {
+
+/// Figures of a humanoid run (SI units; accelerations in m/s^2).
+struct HumanoidSummary {
+  int n_steps = 0;                     ///< steps done
+  double time_step = 0;                ///< s
+  double simulated_time = 0;           ///< s
+  double setup_wall_time = 0;          ///< s: reference, model, sole condensation
+  double loop_wall_time = 0;           ///< s: the time loop
+  int n_sole_nodes = 0;                ///< fem sole: contact nodes per foot
+  double sole_thickness = 0;           ///< m, the foot model's lift (FootModel::lift)
+  int max_active_contacts = 0;         ///< most contact points in one step
+  int n_unconverged = 0;               ///< contact solves stopped above the tolerance
+  double max_solver_residual = 0;      ///< m/s, over all solves
+  int n_solves = 0;                    ///< contact solves (steps with active contacts)
+  int n_direct_solves = 0;             ///< of which solved directly (every contact sticking)
+  int n_direct_refused_cone = 0;       ///< direct candidate refused: a contact left its cone
+  int n_direct_refused_residual = 0;   ///< direct candidate refused on the residual
+  long iterations_after_refusal = 0;   ///< iterations of the solves whose candidate was refused
+  long n_local_solves = 0;             ///< Gauss-Seidel local solves, summed over the solves
+  long solver_iterations = 0;          ///< contact-solver iterations, summed over the solves
+  int max_solver_iterations = 0;       ///< most iterations of one solve
+  double max_penetration = 0;          ///< m, deepest contact point (deformed sole included)
+  double max_waist_acceleration_z = 0; ///< max |a_z| of the waist over the run
+  double max_waist_height_error = 0;   ///< max |z - z_ref| of the waist, m
+  double min_waist_height = 1e9;       ///< m
+  double stand_window_deviation = 0;   ///< max |p_waist(t) - p_waist(settle)| for t >= settle, m
+  double final_roll = 0;               ///< measured waist roll at the end, rad
+  double commanded_roll = 0;           ///< commanded waist roll at the end, rad
+  double max_roll_difference = 0;      ///< max |commanded - measured| roll, rad
+  Eigen::Vector3d final_right_sole =
+      Eigen::Vector3d::Zero(); ///< right sole frame origin (world) at end
+  Eigen::Vector3d final_left_sole = Eigen::Vector3d::Zero();
+  Eigen::Vector3d planned_right_sole = Eigen::Vector3d::Zero(); ///< planned (reference) at end
+  Eigen::Vector3d planned_left_sole = Eigen::Vector3d::Zero();
+  Eigen::Vector3d final_contact_force = Eigen::Vector3d::Zero(); ///< both feet, N, world
+  // Sole/Model = hyperelastic (both feet; coupling/nonlinear_condensed_sole.h):
+  int sole_newton_checks = 0;      ///< Newton solves of the soles (force changed enough)
+  int sole_recondensations = 0;    ///< tangent re-condensations
+  double sole_tolerated_error = 0; ///< largest prediction error accepted without re-condensing
+  double sole_recondensation_tolerance = 0; ///< the scene's tolerance (0: linear sole)
+  /// Wall seconds of the loop per simulated second.
+  double cost() const { return simulated_time > 0 ? loop_wall_time / simulated_time : 0; }
+};
+
+} // namespace plantar::app

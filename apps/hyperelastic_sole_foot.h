@@ -1,0 +1,50 @@
+#pragma once
+// Foot form "fem sole" with Sole/Model = hyperelastic: one hyperelastic sole per foot
+// (coupling/nonlinear_condensed_sole.h, laws of Sole/Materials), its tangent condensed onto
+// the bottom nodes as the foot's compliant patch and re-condensed after the steps whose
+// contact forces moved the prediction beyond Sole/Recondensation tolerance. The robot is
+// lifted by Sole/Thickness.
+
+#include "apps/sole_patch_foot.h"
+
+namespace plantar::coupling {
+class NonlinearCondensedSole;
+}
+
+namespace plantar::app {
+
+struct Scene;
+
+class HyperelasticSoleFoot : public SolePatchFoot {
+public:
+  /// Meshes the sole of @p scene and builds both feet's soles. Throws std::invalid_argument
+  /// for a reduced sole (Sole/Reduced patches).
+  explicit HyperelasticSoleFoot(const Scene& scene);
+  ~HyperelasticSoleFoot() override;
+  double lift() const override { return thickness_; }
+  /// Contact forces -> each sole; re-condensed tangents -> the stepper. Throws
+  /// std::runtime_error "<foot> hyperelastic sole: ..." if a sole's Newton solve fails.
+  void update(const multibody::Data& data) override;
+  void summarize(HumanoidSummary& summary) const override;
+  bool has_fields() const override { return true; }
+  /// The sole of foot @p foot (0 right, 1 left).
+  const coupling::NonlinearCondensedSole& sole(int foot) const { return *soles_[foot]; }
+
+protected:
+  SoleMesh sole_mesh(int foot) const override;
+  const Eigen::VectorXd& node_areas(int foot) const override;
+  /// The sole's full field at its last Newton check (the writer solves nothing).
+  const dealii::Vector<double>&
+  displacement_field(int foot, const Eigen::VectorXd& contact_u,
+                     dealii::Vector<double>& workspace) const override;
+  std::unique_ptr<dealii::DataPostprocessor<3>> stress_postprocessor(int foot) const override;
+
+private:
+  double thickness_ = 0;
+  std::array<std::unique_ptr<coupling::NonlinearCondensedSole>, 2> soles_;
+  Eigen::VectorXd forces_, offset_; ///< 3 n_c workspaces of update()
+  Eigen::MatrixXd compliance_;      ///< 3 n_c square workspace of update()
+  mutable Eigen::VectorXd area_;    ///< node_areas, computed at the first call
+};
+
+} // namespace plantar::app
