@@ -14,6 +14,7 @@
 // midpoint rule) does not damp the linear spring; its discrete frequency is w (1 - (w dt)^2 /
 // 12 + ...), so the errors are second order in dt (measured below).
 #include "coupling/deformable_pad.h"
+#include "coupling/pad_state.h"
 #include "foot_block_model.h"
 #include "multibody/model.h"
 #include "multibody/stepper.h"
@@ -63,14 +64,14 @@ PadDescription knee_pad() {
   return d;
 }
 
-/// Every call to the Stepper's patch API (it will change, issue 22): attaches @p pad to the
-/// body of its link, with Kelvin-Voigt damping time @p damping (s) if positive.
-int attach_pad(Stepper& stepper, const Model& model, const DeformablePad& pad, double damping) {
-  const int patch = stepper.add_compliant_patch(model.body_id(pad.link()), pad.contact_positions(),
-                                                pad.compliance(), pad.friction());
+/// Attaches @p pad to the body of its link with its state @p state (its compliance), with
+/// Kelvin-Voigt damping time @p damping (s) if positive.
+void attach_pad(Stepper& stepper, const Model& model, const DeformablePad& pad, PadState& state,
+                double damping) {
+  stepper.add_deformable_patch(model.body_id(pad.link()), pad.contact_positions(), pad.friction(),
+                               state);
   if (damping > 0)
-    stepper.set_patch_damping(patch, damping);
-  return patch;
+    state.set_damping(damping);
 }
 
 struct Trace {
@@ -90,8 +91,9 @@ Trace simulate(const Model& model, const DeformablePad& pad, double dt, double d
   // of a run above its tolerance, and took 100 times longer).
   parameters.solver.solver = contact::ContactSolverType::gauss_seidel;
   parameters.max_contacts = pad.n_contacts() + 4;
+  PadState state(pad.compliance());
   Stepper stepper(model, parameters);
-  attach_pad(stepper, model, pad, damping);
+  attach_pad(stepper, model, pad, state, damping);
   const double z0 = drop - pad.contact_positions().row(2).minCoeff();
   Eigen::VectorXd q(7), v = Eigen::VectorXd::Zero(6);
   q << 0, 0, z0, 0, 0, 0, 1;
