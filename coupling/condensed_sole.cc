@@ -1,5 +1,7 @@
 #include "coupling/condensed_sole.h"
 
+#include "contact/symmetry.h"
+#include "fem/contact_condensation.h"
 #include "fem/discretization.h"
 #include "fem/field_output.h"
 #include "fem/mesh_import.h"
@@ -13,7 +15,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -125,18 +126,13 @@ CondensedSole::CondensedSole(const dealii::Triangulation<3>& triangulation,
   contact_dofs_ = elasticity.boundary_nodes(parameters_.contact_boundary);
   const int n_c = static_cast<int>(contact_dofs_.size());
   const auto points = elasticity.support_points();
+  fem::check_contact_nodes_free(contact_dofs_, constraints, points, parameters_.attached_boundary,
+                                "CondensedSole");
   contact_positions_.resize(n_c, 3);
   impl_->dof_to_contact.assign(n_dofs, -1);
   for (int k = 0; k < n_c; ++k)
     for (int d = 0; d < 3; ++d) {
       const global_dof_index dof = contact_dofs_[k][d];
-      if (constraints.is_constrained(dof)) {
-        std::ostringstream msg;
-        msg << "CondensedSole: contact node " << k << " at (" << points[dof]
-            << ") m lies on the attached boundary " << parameters_.attached_boundary
-            << " (contact and attached faces must not touch)";
-        throw std::invalid_argument(msg.str());
-      }
       impl_->dof_to_contact[dof] = 3 * k + d;
       contact_positions_(k, d) = points[dof][d];
     }
@@ -185,29 +181,23 @@ CondensedSole::CondensedSole(const dealii::Triangulation<3>& triangulation,
 
     start = std::chrono::steady_clock::now();
     const int n_rows = 3 * n_c;
-    std::vector<int> contact_free(n_rows); // free index of contact dof i
+    std::vector<unsigned int> contact_free(n_rows); // free index of contact dof i
     for (int k = 0; k < n_c; ++k)
       for (int d = 0; d < 3; ++d)
-        contact_free[3 * k + d] = free_index[contact_dofs_[k][d]];
+        contact_free[3 * k + d] = static_cast<unsigned int>(free_index[contact_dofs_[k][d]]);
+    // CHOLMOD reads the right-hand sides in place (Eigen::Ref of the map: no copy).
+    const fem::BlockSolve solve = [&](const double* rhs, double* solution, unsigned int count) {
+      Eigen::Map<Eigen::MatrixXd>(solution, n_free, count) =
+          k_ff_factor.solve(Eigen::Map<const Eigen::MatrixXd>(rhs, n_free, count));
+    };
     compliance_.resize(n_rows, n_rows);
-    Eigen::MatrixXd unit_vectors, solutions;
-    for (int first = 0; first < n_rows; first += parameters_.block_size) {
-      const int n_block = std::min(parameters_.block_size, n_rows - first);
-      unit_vectors.setZero(n_free, n_block);
-      for (int j = 0; j < n_block; ++j)
-        unit_vectors(contact_free[first + j], j) = 1.0;
-      solutions = k_ff_factor.solve(unit_vectors);
-      for (int j = 0; j < n_block; ++j)
-        for (int i = 0; i < n_rows; ++i)
-          compliance_(i, first + j) = solutions(contact_free[i], j);
-    }
+    fem::contact_block_of_inverse(contact_free, static_cast<unsigned int>(n_free),
+                                  static_cast<unsigned int>(parameters_.block_size), solve,
+                                  compliance_.data(), "CondensedSole");
     timings_.contact_solves = seconds_since(start);
   }
-  if (!compliance_.allFinite())
-    throw std::runtime_error("CondensedSole: the contact compliance C has non-finite entries");
-  const double c_max = compliance_.cwiseAbs().maxCoeff();
-  raw_asymmetry_ = (compliance_ - compliance_.transpose()).cwiseAbs().maxCoeff() / c_max;
-  compliance_ = 0.5 * (compliance_ + compliance_.transpose()).eval();
+  raw_asymmetry_ = contact::relative_asymmetry(compliance_);
+  fem::symmetrize(compliance_.data(), static_cast<unsigned int>(compliance_.rows()));
 
   // 3. Recovery operator: Cholesky of K_nn, and K_nc.
   start = std::chrono::steady_clock::now();

@@ -10,7 +10,8 @@
 // and a contact-frame force f_k acts on the sole as A_k^T f_k, so blockwise
 //   C_contact(k, l) = A_k C(k, l) A_l^T   (= F_k^T (R C(k, l) R^T) F_l),
 // i.e. C_world = R C R^T blockwise, then projected onto the contact frames.
-// The stepper divides the result by dt^2 for contact::CompliantPatch (compliance_terms.h).
+// The stepper (multibody/stepper.cc) divides the result by (theta dt)^2 for the sole block
+// of contact::CompliantPatch (compliance_terms.h); theta = 1 (the default) gives C / dt^2.
 
 #include <Eigen/Core>
 
@@ -30,5 +31,19 @@ void rotate_compliance_to_contact_frames(const Eigen::Ref<const Eigen::MatrixXd>
                                          const Eigen::Matrix3d& rotation,
                                          const Eigen::Ref<const Eigen::MatrixXd>& frames,
                                          Eigen::Ref<Eigen::MatrixXd> out);
+
+/// Writes C_rotated(k, l) = R C(k, l) R^T for every 3 x 3 block (k, l): the
+/// compliance in the frame that R maps the sole frame into (e.g. the foot
+/// body's frame). The identity-frames case of
+/// rotate_compliance_to_contact_frames (F_k = I), with the same arithmetic:
+/// results are bitwise the same.
+/// @param rotation R (3 x 3), orthonormal (to 1e-9).
+/// @param compliance C, (3 n x 3 n), m/N, node-major blocks.
+/// @param out (3 n x 3 n), m/N; must not alias @p compliance.
+/// Does not allocate. Throws std::invalid_argument naming the argument and its
+/// size, or if R is not orthonormal.
+void rotate_compliance(const Eigen::Matrix3d& rotation,
+                       const Eigen::Ref<const Eigen::MatrixXd>& compliance,
+                       Eigen::Ref<Eigen::MatrixXd> out);
 
 } // namespace plantar::coupling

@@ -1,5 +1,7 @@
 #include "fem/linear_elasticity.h"
 
+#include "fem/contact_condensation.h"
+
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
@@ -151,31 +153,7 @@ std::vector<Point<3>> LinearElasticity::support_points() const {
 
 std::vector<std::array<types::global_dof_index, 3>>
 LinearElasticity::boundary_nodes(types::boundary_id boundary) const {
-  const auto& fe = *discretization_.fe;
-  std::vector<types::global_dof_index> dofs(fe.n_dofs_per_face());
-  std::map<types::global_dof_index, std::array<types::global_dof_index, 3>> nodes;
-  for (const auto& cell : dof_handler_.active_cell_iterators())
-    for (const unsigned int f : cell->face_indices())
-      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == boundary) {
-        dofs.resize(fe.n_dofs_per_face(f));
-        cell->face(f)->get_dof_indices(dofs);
-        // Face dofs come node by node, components x, y, z within a node.
-        for (unsigned int i = 0; i < dofs.size(); ++i) {
-          const unsigned int component = fe.face_system_to_component_index(i, f).first;
-          if (component == 0) {
-            std::array<types::global_dof_index, 3> node{dofs[i], dofs[i + 1], dofs[i + 2]};
-            for (unsigned int d = 1; d < 3; ++d)
-              if (fe.face_system_to_component_index(i + d, f).first != d)
-                throw std::logic_error("unexpected face dof ordering");
-            nodes[dofs[i]] = node;
-          }
-        }
-      }
-  std::vector<std::array<types::global_dof_index, 3>> result;
-  result.reserve(nodes.size());
-  for (const auto& [first, node] : nodes)
-    result.push_back(node);
-  return result;
+  return fem::boundary_nodes(dof_handler_, boundary);
 }
 
 double LinearElasticity::max_displacement() const {

@@ -1,5 +1,7 @@
 #include "fem/nonlinear_elasticity.h"
 
+#include "fem/contact_condensation.h"
+
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
@@ -481,22 +483,7 @@ void NonlinearElasticity::solve_linearized() {
 
 std::vector<std::array<global_dof_index, 3>>
 NonlinearElasticity::boundary_nodes(dealii::types::boundary_id boundary) const {
-  const auto& fe = *discretization_.fe;
-  std::vector<global_dof_index> dofs;
-  std::map<global_dof_index, std::array<global_dof_index, 3>> nodes;
-  for (const auto& cell : dof_handler_.active_cell_iterators())
-    for (const unsigned int f : cell->face_indices())
-      if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == boundary) {
-        dofs.resize(fe.n_dofs_per_face(f));
-        cell->face(f)->get_dof_indices(dofs);
-        for (unsigned int i = 0; i < dofs.size(); ++i)
-          if (fe.face_system_to_component_index(i, f).first == 0)
-            nodes[dofs[i]] = {dofs[i], dofs[i + 1], dofs[i + 2]};
-      }
-  std::vector<std::array<global_dof_index, 3>> result;
-  for (const auto& [first, node] : nodes)
-    result.push_back(node);
-  return result;
+  return fem::boundary_nodes(dof_handler_, boundary);
 }
 
 std::vector<dealii::Point<3>> NonlinearElasticity::support_points() const {

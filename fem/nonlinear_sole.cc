@@ -1,5 +1,8 @@
 #include "fem/nonlinear_sole.h"
 
+#include "fem/contact_condensation.h"
+
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -34,15 +37,10 @@ NonlinearSole::NonlinearSole(const dealii::Triangulation<3>& triangulation,
     throw std::invalid_argument("NonlinearSole: contact boundary id " +
                                 std::to_string(parameters_.contact_boundary) + " has no face");
   const auto points = problem_.support_points();
-  for (const auto& node : contact_dofs_) {
-    for (unsigned int d = 0; d < 3; ++d)
-      if (problem_.constraints().is_constrained(node[d]))
-        throw std::invalid_argument(
-            "NonlinearSole: contact node at (" + std::to_string(points[node[0]][0]) + ", " +
-            std::to_string(points[node[0]][1]) + ", " + std::to_string(points[node[0]][2]) +
-            ") is also on the attached boundary");
+  check_contact_nodes_free(contact_dofs_, problem_.constraints(), points,
+                           parameters_.attached_boundary, "NonlinearSole");
+  for (const auto& node : contact_dofs_)
     contact_positions_.push_back(points[node[0]]);
-  }
   const unsigned int n = 3 * n_contacts();
   contact_displacement_.reinit(n);
   contact_force_.reinit(n);
@@ -58,30 +56,28 @@ void NonlinearSole::gather_contact_displacements() {
 }
 
 void NonlinearSole::compute_compliance() {
+  // C = [K_T^-1]_cc by unit-load solves with the UMFPACK factorization of K_T
+  // (one right-hand side at a time, in deal.II's full dof numbering).
   problem_.factorize_tangent();
   const unsigned int n = 3 * n_contacts();
-  compliance_.reinit(n, n);
-  dealii::Vector<double> rhs(problem_.dof_handler().n_dofs()), x(rhs.size());
-  for (unsigned int j = 0; j < n; ++j) {
-    rhs = 0;
-    rhs(contact_dofs_[j / 3][j % 3]) = 1;
-    problem_.solve_tangent(rhs, x);
-    for (unsigned int i = 0; i < n; ++i)
-      compliance_(i, j) = x(contact_dofs_[i / 3][i % 3]);
-  }
-  double max_value = 0, max_asym = 0;
+  const auto n_dofs = static_cast<unsigned int>(problem_.dof_handler().n_dofs());
+  std::vector<unsigned int> contact_index(n);
   for (unsigned int i = 0; i < n; ++i)
-    for (unsigned int j = 0; j < n; ++j) {
-      max_value = std::max(max_value, std::abs(compliance_(i, j)));
-      max_asym = std::max(max_asym, std::abs(compliance_(i, j) - compliance_(j, i)));
+    contact_index[i] = static_cast<unsigned int>(contact_dofs_[i / 3][i % 3]);
+  dealii::Vector<double> rhs(n_dofs), x(n_dofs);
+  const BlockSolve solve = [&](const double* b, double* solution, unsigned int count) {
+    for (unsigned int j = 0; j < count; ++j) {
+      std::copy(b + std::size_t{j} * n_dofs, b + std::size_t{j + 1} * n_dofs, rhs.begin());
+      problem_.solve_tangent(rhs, x);
+      std::copy(x.begin(), x.end(), solution + std::size_t{j} * n_dofs);
     }
-  for (unsigned int i = 0; i < n; ++i)
-    for (unsigned int j = i + 1; j < n; ++j)
-      compliance_(i, j) = compliance_(j, i) = 0.5 * (compliance_(i, j) + compliance_(j, i));
-  raw_asymmetry_ = max_value > 0 ? max_asym / max_value : 0;
-  if (!std::isfinite(max_value) || !(max_value > 0))
-    throw std::runtime_error("NonlinearSole: tangent compliance is not finite or zero (max " +
-                             std::to_string(max_value) + ")");
+  };
+  compliance_.reinit(n, n);
+  // FullMatrix is row-major: this stores C^T, which symmetrize() maps onto the same C.
+  double* c = n > 0 ? &compliance_(0, 0) : nullptr;
+  contact_block_of_inverse(contact_index, n_dofs, 1, solve, c, "NonlinearSole (tangent)");
+  raw_asymmetry_ = relative_asymmetry(c, n);
+  symmetrize(c, n);
   gather_contact_displacements();
   reference_displacement_ = contact_displacement_;
   reference_force_ = contact_force_;

@@ -1,4 +1,4 @@
-// rotate_compliance_to_contact_frames (coupling/contact_frame_compliance.h)
+// rotate_compliance_to_contact_frames and rotate_compliance (coupling/contact_frame_compliance.h)
 // against a dense reference T C T^T with T = blockdiag(F_k^T R), special cases
 // with exact answers, no heap allocation (Eigen's malloc guard: this file and
 // the library source are compiled with EIGEN_RUNTIME_NO_MALLOC, NDEBUG off),
@@ -96,6 +96,34 @@ TEST(ContactFrameCompliance, DoesNotAllocate) {
   rotate_compliance_to_contact_frames(f.compliance, f.rotation, f.frames, f.out);
   Eigen::internal::set_is_malloc_allowed(true);
   EXPECT_TRUE(f.out.allFinite());
+}
+
+// rotate_compliance(R, C, out): blockwise R C(k, l) R^T, bitwise the identity-frames case.
+TEST(ContactFrameCompliance, RotateComplianceIsTheIdentityFramesCase) {
+  Fixture f(6, 13);
+  const int n = static_cast<int>(f.compliance.rows());
+  const Eigen::MatrixXd identity_frames = Eigen::Matrix3d::Identity().replicate(1, n / 3);
+  Eigen::MatrixXd reference(n, n);
+  rotate_compliance_to_contact_frames(f.compliance, f.rotation, identity_frames, reference);
+  Eigen::internal::set_is_malloc_allowed(false);
+  rotate_compliance(f.rotation, f.compliance, f.out);
+  Eigen::internal::set_is_malloc_allowed(true);
+  EXPECT_TRUE((f.out.array() == reference.array()).all()) << "not bitwise the same";
+  double block_error = 0;
+  for (int k = 0; k < n / 3; ++k)
+    for (int l = 0; l < n / 3; ++l) {
+      const Eigen::Matrix3d expected =
+          f.rotation * f.compliance.block<3, 3>(3 * k, 3 * l) * f.rotation.transpose();
+      block_error =
+          std::max(block_error, (f.out.block<3, 3>(3 * k, 3 * l) - expected).cwiseAbs().maxCoeff());
+    }
+  std::printf("\nrotate_compliance: max |out - R C(k, l) R^T| = %.2e m/N\n", block_error);
+  EXPECT_LT(block_error, 1e-15 * f.compliance.cwiseAbs().maxCoeff());
+  Eigen::MatrixXd small(6, 6);
+  EXPECT_THROW(rotate_compliance(f.rotation, f.compliance, small), std::invalid_argument);
+  EXPECT_THROW(rotate_compliance(2.0 * f.rotation, f.compliance, f.out), std::invalid_argument);
+  EXPECT_THROW(rotate_compliance(f.rotation, f.compliance.leftCols(6), f.out),
+               std::invalid_argument);
 }
 
 // The guard is live in this build (otherwise DoesNotAllocate could not fail).

@@ -1,6 +1,7 @@
 // NonlinearCondensedSole (coupling/nonlinear_condensed_sole.h):
 //  - linear limit: at u = 0 its C_T equals the linear CondensedSole's C of the same mesh
-//    and small-strain E, nu (independent code: CHOLMOD on the linear stiffness), d = 0;
+//    and small-strain E, nu (independent assembly and solver: CHOLMOD on the linear
+//    stiffness; only the unit-load loop, fem/contact_condensation.h, is shared), d = 0;
 //  - the affine model u_c ~ C_T f + d is exact at the condensation state and C_T matches
 //    central finite differences of Newton solutions there;
 //  - under a load ramp the re-condensed model predicts the Newton solution better than the

@@ -7,7 +7,7 @@
 //    re-condensations for a tolerance; the re-condensed tangent compliance
 //    against finite differences of Newton solutions;
 //  - a sole squeezed to 40 % of its thickness converges with J > 0.
-#include "fem/nonlinear_output.h"
+#include "fem/field_output.h"
 #include "fem/nonlinear_sole.h"
 #include "fem_test_utilities.h"
 
