@@ -125,7 +125,7 @@ private:
   // between solves at rows and columns 3 first_contact and updated node by node.
   bool update_active_factor(const ContactProblem& problem, int j);
   void remove_active_node(int first, int position);
-  bool append_active_node(const CompliantPatch& patch, int node);
+  bool append_active_node(const CompliantPatch& patch, const PatchLever& structure, int node);
   Eigen::VectorXd sticking_p_;         // 3N, factor order: x = L^-1 c', then p~_A
   Eigen::VectorXd sticking_c_;         // 3N, factor order: c~ = (I (x) R)^T (v_free + b e_n)
   Eigen::VectorXd sticking_full_;      // 3N, candidate impulses (contact frames)
@@ -137,7 +137,7 @@ private:
   Eigen::VectorXi active_order_;       // N: at first + i, the local node of position i
   Eigen::VectorXi active_position_;    // N: position of contact k in its patch's factor, -1
   Eigen::VectorXi active_owner_;       // N: patch whose factor occupies contact k's rows
-  Eigen::Matrix<long, Eigen::Dynamic, 1> active_version_; // per patch: sticking_version
+  Eigen::Matrix<long, Eigen::Dynamic, 1> active_version_; // per patch: PatchLever::version
   Eigen::VectorXi active_first_, active_size_, active_count_, active_updates_; // per patch
   Eigen::VectorXi wanted_;  // N: 1 where the warm start sticks (p_n > 0, inside the cone)
   Eigen::VectorXi sliding_; // N: 1 where it slides (p_n > 0, on the cone): held in the solve

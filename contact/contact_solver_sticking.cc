@@ -6,7 +6,7 @@
 // separated (p = 0).
 // Sticking contacts then have zero De Saxce velocity: W_AA p_A = -c'_A with
 // c' = v_free + b e_n + W_AS p_S. With every contact on a patch whose rigid rows are
-// G_j = (I (x) R_j) Lambda_j T_j (CompliantPatch::lever, lever_map) and
+// G_j = (I (x) R_j) Lambda_j T_j (ContactProblem::patch_levers: lever, lever_map) and
 // D_A = blockdiag((I (x) R_j) C_j,AA (I (x) R_j)^T), C_j = C/dt^2 in the patch frame,
 // Woodbury gives, in patch frames, with L L^T = C_j,AA and Z = L^-1 Lambda_j,A:
 //   x_j = L^-1 c~'_j,A                                   (one triangular solve)
@@ -108,7 +108,8 @@ void ContactSolver::remove_active_node(int first, int position) {
   }
 }
 
-bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
+bool ContactSolver::append_active_node(const CompliantPatch& patch, const PatchLever& structure,
+                                       int node) {
   // New rows [B^T L^-T, chol(C_nn - B^T C_AA^-1 B)], B = C_A,n (3 |A| x 3).
   const int first = patch.first_contact;
   const int base = 3 * first;
@@ -140,7 +141,7 @@ bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
   l.block<3, 3>(size, size) = d.triangularView<Eigen::Lower>();
   // Z = L^-1 Lambda_A gains the rows d^-1 (Lambda_n - b^T Z_A); Z^T Z gains their Gram.
   auto z = active_lever_solve_.middleRows(base, size + 3);
-  Eigen::Matrix<double, 3, 6> z_n = patch.lever.middleRows<3>(3 * node);
+  Eigen::Matrix<double, 3, 6> z_n = structure.lever.middleRows<3>(3 * node);
   z_n.noalias() -= b.transpose() * z.topRows(size);
   d.triangularView<Eigen::Lower>().solveInPlace(z_n);
   z.bottomRows<3>() = z_n;
@@ -154,12 +155,12 @@ bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
 bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
   const CompliantPatch& patch = problem.patches[j];
   const int first = patch.first_contact, n_nodes = patch.n_contacts;
-  bool owned = active_version_[j] == patch.sticking_version && active_first_[j] == first &&
+  bool owned = active_version_[j] == problem.patch_levers[j].version && active_first_[j] == first &&
                active_size_[j] == n_nodes;
   for (int k = first; owned && k < first + n_nodes; ++k)
     owned = active_owner_[k] == j;
   if (!owned || active_updates_[j] >= kMaxUpdates) { // start from an empty factor
-    active_version_[j] = patch.sticking_version;
+    active_version_[j] = problem.patch_levers[j].version;
     active_first_[j] = first;
     active_size_[j] = n_nodes;
     active_count_[j] = 0;
@@ -180,7 +181,7 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
   }
   for (int node = 0; node < n_nodes; ++node) {
     if (wanted_[first + node] && active_position_[first + node] < 0) {
-      if (!append_active_node(patch, node)) {
+      if (!append_active_node(patch, problem.patch_levers[j], node)) {
         active_version_[j] = -1; // not positive definite: start again next time
         return false;
       }
@@ -197,13 +198,17 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   const int m = rigid_rank_;
   if (static_cast<int>(problem.patches.size()) > max_contacts_)
     return false;
+  if (problem.patch_levers.size() != problem.patches.size())
+    return false;
   int covered = 0;
-  for (const CompliantPatch& patch : problem.patches) {
+  for (std::size_t j = 0; j < problem.patches.size(); ++j) {
+    const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     if (patch.n_contacts == 0)
       continue;
-    if (patch.sticking_version <= 0 || !patch.lever_map_valid ||
-        patch.lever.rows() != 3 * patch.n_contacts || patch.lever_map.rows() != 6 ||
-        patch.lever_map.cols() != m)
+    if (structure.version <= 0 || !structure.lever_map_valid ||
+        structure.lever.rows() != 3 * patch.n_contacts || structure.lever_map.rows() != 6 ||
+        structure.lever_map.cols() != m)
       return false;
     covered += patch.n_contacts;
   }
@@ -227,19 +232,21 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   // g_S = G^T p_S of the sliding contacts (held at their warm-start impulses).
   auto g_sliding = rigid_work2_.head(m);
   g_sliding.setZero();
-  for (const CompliantPatch& patch : problem.patches) {
+  for (std::size_t j = 0; j < problem.patches.size(); ++j) {
+    const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     Vector6 t = Vector6::Zero();
     bool any = false;
     for (int node = 0; node < patch.n_contacts; ++node) {
       const int k = patch.first_contact + node;
       if (sliding_[k]) {
-        add_lever_transposed(patch.lever, node,
+        add_lever_transposed(structure.lever, node,
                              patch.rotation.transpose() * impulses.segment<3>(3 * k), t);
         any = true;
       }
     }
     if (any)
-      g_sliding.noalias() += patch.lever_map.transpose() * t;
+      g_sliding.noalias() += structure.lever_map.transpose() * t;
   }
 
   // x_j = C_j,AA^-1 c'_j,A with c' = c~ + C_AS p~_S + Lambda_A T_j g_S; S and G^T D_A^-1 c'.
@@ -247,6 +254,7 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   sticking_y_.setZero();
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     if (patch.n_contacts == 0)
       continue;
     if (!update_active_factor(problem, static_cast<int>(j))) {
@@ -270,22 +278,22 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     // x = L^-1 c'; Lambda_A^T C_AA^-1 c' = Z^T x.
     auto c = sticking_c_.segment(3 * first, 3 * count);
     auto x = sticking_p_.segment(3 * first, 3 * count);
-    const Vector6 u_sliding = patch.lever_map * g_sliding;
+    const Vector6 u_sliding = structure.lever_map * g_sliding;
     for (int i = 0; i < count; ++i) {
       const int node = active_order_[first + i];
       const int k = first + node;
       Eigen::Vector3d c_k = problem.free_velocity.segment<3>(3 * k);
       c_k[0] += problem.normal_bias[k];
       c.segment<3>(3 * i).noalias() = patch.rotation.transpose() * c_k;
-      x.segment<3>(3 * i) =
-          c.segment<3>(3 * i) + w.segment<3>(3 * node) + lever_times(patch.lever, node, u_sliding);
+      x.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
+                            lever_times(structure.lever, node, u_sliding);
     }
     solve_lower(&active_factor_(3 * first, 3 * first), active_factor_.outerStride(), 3 * count,
                 x.data());
     const Vector6 t = active_lever_solve_.middleRows(3 * first, 3 * count).transpose() * x;
-    sticking_y_.noalias() += patch.lever_map.transpose() * t;
-    sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * patch.lever_map;
-    sticking_capacitance_.noalias() += patch.lever_map.transpose() * sticking_map_;
+    sticking_y_.noalias() += structure.lever_map.transpose() * t;
+    sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * structure.lever_map;
+    sticking_capacitance_.noalias() += structure.lever_map.transpose() * sticking_map_;
   }
   if (Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(sticking_capacitance_) >= 0) {
     result.direct_attempt = DirectAttempt::failed;
@@ -304,12 +312,13 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       sticking_full_.segment<3>(3 * k) = impulses.segment<3>(3 * k);
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     const int first = patch.first_contact, count = patch.n_contacts > 0 ? active_count_[j] : 0;
     if (count == 0)
       continue;
     // p~_A = -L^-T (L^-1 c' - Z T z)
     auto x = sticking_p_.segment(3 * first, 3 * count);
-    const Vector6 u = patch.lever_map * sticking_y_;
+    const Vector6 u = structure.lever_map * sticking_y_;
     x.noalias() -= active_lever_solve_.middleRows(3 * first, 3 * count) * u;
     solve_lower_transposed(&active_factor_(3 * first, 3 * first), active_factor_.outerStride(),
                            3 * count, x.data());
@@ -317,14 +326,14 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     Vector6 t = Vector6::Zero();
     for (int i = 0; i < count; ++i) {
       const int node = active_order_[first + i];
-      add_lever_transposed(patch.lever, node, x.segment<3>(3 * i), t);
+      add_lever_transposed(structure.lever, node, x.segment<3>(3 * i), t);
       const Eigen::Vector3d p = patch.rotation * x.segment<3>(3 * i);
       const double mu = problem.friction[first + node];
       if (!(p[0] >= 0.0) || !(p[1] * p[1] + p[2] * p[2] <= mu * mu * p[0] * p[0]))
         ++n_outside;
       sticking_full_.segment<3>(3 * (first + node)) = p;
     }
-    rigid_work_.head(m).noalias() += patch.lever_map.transpose() * t;
+    rigid_work_.head(m).noalias() += structure.lever_map.transpose() * t;
   }
   if (!sticking_full_.head(n3).allFinite()) {
     result.direct_attempt = DirectAttempt::failed;
@@ -336,6 +345,7 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   // columns (C is symmetric), or all rows by the columns of A and S when those are fewer.
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     if (patch.n_contacts == 0)
       continue;
     const int first = patch.first_contact, count = active_count_[j];
@@ -354,11 +364,11 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       }
     } else {
       if (count > 0) {
-        const Vector6 v6 = patch.lever_map * rigid_work_.head(m);
+        const Vector6 v6 = structure.lever_map * rigid_work_.head(m);
         for (int i = 0; i < count; ++i) {
           const int node = active_order_[first + i];
           w.segment<3>(3 * node) =
-              -(sticking_c_.segment<3>(3 * (first + i)) + lever_times(patch.lever, node, v6));
+              -(sticking_c_.segment<3>(3 * (first + i)) + lever_times(structure.lever, node, v6));
         }
       }
       for (int node = 0; node < patch.n_contacts; ++node) {
