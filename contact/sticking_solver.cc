@@ -1,5 +1,4 @@
-// Direct solve on the warm start's active set (part of ContactSolver,
-// SolverSettings::sticking_direct).
+// Direct solve on the warm start's active set (StickingSolver, sticking_solver.h).
 //
 // The warm start predicts, per contact, sticking (p_n > 0, inside the cone by more than a
 // relative 1e-9), sliding (p_n > 0 on the cone: S, held at its warm-start impulse) or
@@ -21,7 +20,7 @@
 // node is a triangular solve for its rows of L and Z (O(|A|^2)); removing one is a rank-3
 // update of the trailing factor whose rotations also update Z and Z^T Z (O(|A|^2)); the
 // factor is rebuilt from scratch after 60 updates.
-#include "contact/contact_solver.h"
+#include "contact/sticking_solver.h"
 
 #include "contact/coulomb_cone.h"
 #include "contact/dense_kernels.h"
@@ -59,7 +58,7 @@ inline void add_lever_transposed(const Eigen::MatrixXd& lever, int node, const E
 }
 } // namespace
 
-void ContactSolver::remove_active_node(int first, int position) {
+void StickingSolver::remove_active_node(int first, int position) {
   // L = [L11 0 0; L21 L22 0; L31 L32 L33] with the node's block in the middle: the factor
   // without it is [L11 0; L31 L33'] with L33' L33'^T = L33 L33^T + L32 L32^T.
   const int base = 3 * first;
@@ -108,8 +107,8 @@ void ContactSolver::remove_active_node(int first, int position) {
   }
 }
 
-bool ContactSolver::append_active_node(const CompliantPatch& patch, const PatchLever& structure,
-                                       int node) {
+bool StickingSolver::append_active_node(const CompliantPatch& patch, const PatchLever& structure,
+                                        int node) {
   // New rows [B^T L^-T, chol(C_nn - B^T C_AA^-1 B)], B = C_A,n (3 |A| x 3).
   const int first = patch.first_contact;
   const int base = 3 * first;
@@ -152,7 +151,7 @@ bool ContactSolver::append_active_node(const CompliantPatch& patch, const PatchL
   return true;
 }
 
-bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
+bool StickingSolver::update_active_factor(const ContactProblem& problem, int j) {
   const CompliantPatch& patch = problem.patches[j];
   const int first = patch.first_contact, n_nodes = patch.n_contacts;
   bool owned = active_version_[j] == problem.patch_levers[j].version && active_first_[j] == first &&
@@ -191,15 +190,45 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
   return true;
 }
 
-bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSettings& settings,
-                                   Eigen::Ref<Eigen::VectorXd> impulses, SolverResult& result) {
+void StickingSolver::resize(int max_contacts, int rigid_rank) {
+  max_contacts_ = max_contacts;
+  rigid_rank_ = rigid_rank;
+  const int n3 = 3 * max_contacts;
+  sticking_p_.setZero(n3);
+  sticking_c_.setZero(n3);
+  sticking_full_.setZero(n3);
+  sticking_work_.setZero(n3);
+  sticking_columns_.setZero(n3, 3);
+  active_factor_.setZero(n3, n3);
+  active_lever_solve_.setZero(n3, 6);
+  active_gram_.setZero(6, 6 * max_contacts);
+  active_order_.setConstant(max_contacts, -1);
+  active_position_.setConstant(max_contacts, -1);
+  active_owner_.setConstant(max_contacts, -1);
+  active_version_.setConstant(max_contacts, -1);
+  active_first_.setConstant(max_contacts, -1);
+  active_size_.setConstant(max_contacts, -1);
+  active_count_.setZero(max_contacts);
+  active_updates_.setZero(max_contacts);
+  wanted_.setZero(max_contacts);
+  sliding_.setZero(max_contacts);
+  sticking_capacitance_.setZero(rigid_rank, rigid_rank);
+  sticking_y_.setZero(rigid_rank);
+  sticking_map_.setZero(6, rigid_rank);
+  g_sliding_.setZero(rigid_rank);
+}
+
+SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
+                                   Eigen::Ref<Eigen::VectorXd> impulses,
+                                   DelassusProducts& products) {
   const int n = problem.n_contacts;
   const int n3 = 3 * n;
   const int m = rigid_rank_;
+  SolverResult result;
   if (static_cast<int>(problem.patches.size()) > max_contacts_)
-    return false;
+    return result;
   if (problem.patch_levers.size() != problem.patches.size())
-    return false;
+    return result;
   int covered = 0;
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
@@ -209,11 +238,11 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     if (structure.version <= 0 || !structure.lever_map_valid ||
         structure.lever.rows() != 3 * patch.n_contacts || structure.lever_map.rows() != 6 ||
         structure.lever_map.cols() != m)
-      return false;
+      return result;
     covered += patch.n_contacts;
   }
   if (covered != n)
-    return false; // a contact without compliance: D singular
+    return result; // a contact without compliance: D singular
   int n_active = 0;
   for (int k = 0; k < n; ++k) { // the warm start's prediction: sticking, sliding or separated
     const double p_n = impulses[3 * k];
@@ -226,11 +255,10 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     n_active += wanted_[k];
   }
   if (n_active == 0)
-    return false;
+    return result;
 
-  start_ready_ = false; // rigid_work_ and patch_velocity_ are taken from here on
   // g_S = G^T p_S of the sliding contacts (held at their warm-start impulses).
-  auto g_sliding = rigid_work2_.head(m);
+  auto g_sliding = g_sliding_.head(m);
   g_sliding.setZero();
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
@@ -259,11 +287,11 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       continue;
     if (!update_active_factor(problem, static_cast<int>(j))) {
       result.direct_attempt = DirectAttempt::failed;
-      return false;
+      return result;
     }
     const int first = patch.first_contact, count = active_count_[j];
     const int size = 3 * patch.n_contacts;
-    auto w = patch_velocity_.segment(3 * first, size); // C_:S p~_S (patch frame, node order)
+    auto w = products.patch_product.segment(3 * first, size); // C_:S p~_S (patch frame, node order)
     w.setZero();
     for (int node = 0; node < patch.n_contacts; ++node) {
       if (sliding_[first + node]) {
@@ -297,14 +325,14 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   }
   if (Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(sticking_capacitance_) >= 0) {
     result.direct_attempt = DirectAttempt::failed;
-    return false;
+    return result;
   }
   auto s = sticking_capacitance_.triangularView<Eigen::Lower>();
   s.solveInPlace(sticking_y_);
   s.transpose().solveInPlace(sticking_y_); // z
 
   // p~_A, G^T p = G_A^T p_A + g_S; the candidate in contact frames.
-  rigid_work_.head(m) = g_sliding;
+  products.rigid.head(m) = g_sliding;
   sticking_full_.head(n3).setZero();
   int n_outside = 0;
   for (int k = 0; k < n; ++k)
@@ -333,11 +361,11 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
         ++n_outside;
       sticking_full_.segment<3>(3 * (first + node)) = p;
     }
-    rigid_work_.head(m).noalias() += structure.lever_map.transpose() * t;
+    products.rigid.head(m).noalias() += structure.lever_map.transpose() * t;
   }
   if (!sticking_full_.head(n3).allFinite()) {
     result.direct_attempt = DirectAttempt::failed;
-    return false;
+    return result;
   }
 
   // Patch products w = C_j (I (x) R)^T p (patch frame). Rows of A from the sticking
@@ -350,8 +378,8 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       continue;
     const int first = patch.first_contact, count = active_count_[j];
     const int size = 3 * patch.n_contacts;
-    auto w = patch_velocity_.segment(3 * first, size); // holds C_:S p~_S
-    auto p_patch = sticking_work_.head(size);          // p~ in node order
+    auto w = products.patch_product.segment(3 * first, size); // holds C_:S p~_S
+    auto p_patch = sticking_work_.head(size);                 // p~ in node order
     for (int node = 0; node < patch.n_contacts; ++node)
       p_patch.segment<3>(3 * node).noalias() =
           patch.rotation.transpose() * sticking_full_.segment<3>(3 * (first + node));
@@ -364,7 +392,7 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       }
     } else {
       if (count > 0) {
-        const Vector6 v6 = structure.lever_map * rigid_work_.head(m);
+        const Vector6 v6 = structure.lever_map * products.rigid.head(m);
         for (int i = 0; i < count; ++i) {
           const int node = active_order_[first + i];
           w.segment<3>(3 * node) =
@@ -379,11 +407,11 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       }
     }
   }
-  velocity_.head(n3).noalias() = problem.rigid_factor.topRows(n3) * rigid_work_.head(m);
-  velocity_.head(n3) += problem.free_velocity.head(n3);
-  add_patch_velocities(problem);
+  products.velocity.head(n3).noalias() = problem.rigid_factor.topRows(n3) * products.rigid.head(m);
+  products.velocity.head(n3) += problem.free_velocity.head(n3);
+  products.add_patch_velocities(problem);
   if (n_outside == 0) {
-    const double r = residual(problem, sticking_full_, velocity_);
+    const double r = products.residual(problem, sticking_full_, products.velocity);
     if (r <= settings.tolerance) {
       impulses.head(n3) = sticking_full_.head(n3);
       result = SolverResult{};
@@ -392,7 +420,7 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       result.iterations = 0;
       result.residual = r;
       result.status = SolverStatus::converged;
-      return true;
+      return result;
     }
   }
   // Refused (a sticking contact outside its cone, a held sliding impulse, a separated
@@ -406,14 +434,13 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     if (delta.squaredNorm() == 0.0)
       continue;
     sticking_full_.segment<3>(3 * k) += delta;
-    add_impulse_change(problem, &problem.patches[patch_of_[k]], k, delta, rigid_work_.data(),
-                       patch_velocity_.data());
+    add_impulse_change(problem, &problem.patches[products.patch_of[k]], k, delta,
+                       products.rigid.data(), products.patch_product.data());
   }
   impulses.head(n3) = sticking_full_.head(n3);
-  start_ready_ = true;
   result.direct_attempt =
       n_outside > 0 ? DirectAttempt::refused_cone : DirectAttempt::refused_residual;
-  return false;
+  return result;
 }
 
 } // namespace plantar::contact
