@@ -14,7 +14,7 @@ namespace {
 // solves, trailing tiles by 64 x 64 x 64 products. Every Eigen kernel call
 // then fits its scratch under EIGEN_STACK_ALLOCATION_LIMIT, so, unlike
 // Eigen's blocked LLT (heap scratch above ~100 contacts), this never
-// allocates; measured as fast as the blocked LLT at 2400 rows.
+// allocates (timing against the blocked LLT in docs/contact.md).
 // Returns false if the matrix is not positive definite.
 template <typename Block> bool cholesky_in_place(Block&& block) {
   constexpr Eigen::Index kTile = 64;

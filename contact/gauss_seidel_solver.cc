@@ -74,9 +74,8 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
       settings.enumerate_local_solutions ? LocalSearch::all : LocalSearch::first;
   // W_kk and W_kk^-1 (the sticking candidates of local solves). From the direct solve's refused
   // candidate with the sweep skip, most contacts are never solved: each is built at its first
-  // local solve (has_inverse_ -1 before; damped walk 29.6-30.4 -> 28.0-28.1 us per solve).
-  // Otherwise nearly all are solved in the first sweep: all are built first and loaded at the
-  // top of the sweep (building at first need cost 4 % there, 64.1-65.3 against 61.4-62.7 us).
+  // local solve (has_inverse_ -1 before). Otherwise nearly all are solved in the first sweep:
+  // all are built first and loaded at the top of the sweep (timings in docs/contact.md).
   // The same start is also where sweeps are listed: a sweep solves only the contacts whose
   // residual at the last check was above the skip, in order, with no residual at their turn.
   const bool listed = settings.sweep_skip > 0.0 && start == StartProducts::held;
