@@ -1,5 +1,5 @@
 // The direct solve of an all-sticking problem (SolverSettings::sticking_direct,
-// contact_solver_sticking.cc) against a known sticking solution, the dense W and the
+// sticking_solver.cc) against a known sticking solution, the dense W and the
 // Gauss-Seidel iteration; when it must refuse (and the iteration starts from the refused
 // candidate); a sliding contact held; a stiff sole; the kept inverse on ill-conditioned soles.
 #include "contact/contact_solver.h"
