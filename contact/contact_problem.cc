@@ -1,6 +1,5 @@
 #include "contact/contact_problem.h"
 
-#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -25,26 +24,6 @@ void rotate_from_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::Vector
     const Eigen::Vector3d y = rotation * x.segment<3>(i);
     x.segment<3>(i) = y;
   }
-}
-
-Eigen::MatrixXd rigid_lever(const Eigen::Matrix3Xd& nodes) {
-  Eigen::MatrixXd lever = Eigen::MatrixXd::Zero(3 * nodes.cols(), 6);
-  for (Eigen::Index k = 0; k < nodes.cols(); ++k) {
-    const Eigen::Vector3d r = nodes.col(k);
-    lever.block<3, 3>(3 * k, 0).setIdentity();
-    lever.block<3, 3>(3 * k, 3) << 0, r.z(), -r.y(), -r.z(), 0, r.x(), r.y(), -r.x(), 0;
-  }
-  return lever;
-}
-
-void set_sticking_structure(CompliantPatch& patch, const Eigen::Ref<const Eigen::MatrixXd>& lever) {
-  if (lever.cols() != 6 || lever.rows() % 3 != 0)
-    fail("set_sticking_structure: lever is " + std::to_string(lever.rows()) + "x" +
-         std::to_string(lever.cols()) + ", expected 3n x 6");
-  static std::atomic<long> next_version{1};
-  if (lever.data() != patch.lever.data())
-    patch.lever = lever;
-  patch.sticking_version = next_version++;
 }
 
 void ContactProblem::validate(bool check_matrices) const {

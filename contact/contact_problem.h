@@ -31,6 +31,8 @@
 // so building and solving a problem allocates nothing. (The patch matrices
 // must likewise be sized before the loop.)
 
+#include "contact/patch_lever.h"
+
 #include <Eigen/Core>
 #include <vector>
 
@@ -63,30 +65,7 @@ struct CompliantPatch {
   /// ContactSolver::patch_product() of the previous solve.
   Eigen::VectorXd warm_product;
   bool warm_product_valid = false;
-
-  /// Optional structure of the rigid coupling, for the direct solve on the warm start's
-  /// active set (SolverSettings::sticking_direct). When the patch's nodes are fixed to one
-  /// rigid body, its rows of G are
-  ///   G_patch = (I (x) R) lever lever_map,
-  /// lever (3 n_contacts x 6, patch frame, constant: node i's rows [I, -[rho_i]x] for its
-  /// position rho_i) and lever_map (6 x m, set per step by the owner, lever_map_valid).
-  Eigen::MatrixXd lever;
-  Eigen::MatrixXd lever_map;
-  bool lever_map_valid = false;
-  /// Set by set_sticking_structure(), 0 before: identifies the (block, lever) pair, so that
-  /// the solver knows when the factors it keeps for this patch are stale.
-  long sticking_version = 0;
 };
-
-/// Lambda (3 n x 6) for nodes fixed to one rigid body: node k's rows [I, -[rho_k]x], rho_k
-/// the k-th column of @p nodes (3 x n, m, body frame), so that Lambda (v_o, w) gives the node
-/// velocities v_o + w x rho_k. Allocates.
-Eigen::MatrixXd rigid_lever(const Eigen::Matrix3Xd& nodes);
-
-/// Stores @p lever (3 n x 6, see CompliantPatch::lever) in @p patch and gives the patch a new
-/// sticking_version. Call it after every change of compliance_over_dt (the solver's factors of
-/// the block are then rebuilt). Allocates when the size changes.
-void set_sticking_structure(CompliantPatch& patch, const Eigen::Ref<const Eigen::MatrixXd>& lever);
 
 /// x (3 n) <- (I (x) R^T) x: contact-frame vectors of a patch to its frame.
 void rotate_to_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::VectorXd> x);
@@ -137,9 +116,12 @@ struct ContactProblem {
   int n_contacts = 0;                  ///< active contacts, first rows used
   Eigen::MatrixXd rigid_factor;        ///< G, (3 max_contacts x m)
   std::vector<CompliantPatch> patches; ///< compliant blocks, disjoint ranges
-  Eigen::VectorXd free_velocity;       ///< v_free, (3 max_contacts), m/s
-  Eigen::VectorXd normal_bias;         ///< b, (max_contacts), m/s
-  Eigen::VectorXd friction;            ///< mu, (max_contacts), dimensionless
+  /// Optional rigid structure of each patch (empty, or parallel to patches), for the direct
+  /// solve on the warm start's active set (SolverSettings::sticking_direct).
+  std::vector<PatchLever> patch_levers;
+  Eigen::VectorXd free_velocity; ///< v_free, (3 max_contacts), m/s
+  Eigen::VectorXd normal_bias;   ///< b, (max_contacts), m/s
+  Eigen::VectorXd friction;      ///< mu, (max_contacts), dimensionless
 };
 
 } // namespace plantar::contact

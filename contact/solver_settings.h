@@ -18,9 +18,10 @@ struct SolverSettings {
   int max_iterations = 500;
   /// Start from the impulses passed in (projected onto the cones) instead of zero.
   bool warm_start = true;
-  /// Gauss-Seidel: enumerate every solution of each local problem (LocalSearch::all, about
-  /// 1 us per contact and sweep) so that non-unique ones are counted; false: only the
-  /// preferred solution (LocalSearch::first, tens of ns), non-uniqueness not detected.
+  /// Gauss-Seidel: enumerate every solution of each local problem (LocalSearch::all, the
+  /// 64-point scan on every local solve) so that non-unique ones are counted; false: only the
+  /// preferred solution (LocalSearch::first), non-uniqueness not detected. Costs in
+  /// docs/contact.md.
   bool enumerate_local_solutions = false;
   /// Gauss-Seidel: a contact whose natural-map residual at its turn in a sweep is <=
   /// sweep_skip * tolerance keeps its impulse for that sweep (no local solve, no column
@@ -29,10 +30,10 @@ struct SolverSettings {
   double sweep_skip = 0.0;
   /// Before iterating, solve directly on the warm start's prediction: contacts with p_n > 0
   /// strictly inside the cone sticking, those on the cone held at their impulse (sliding), the
-  /// others separated (p = 0). Needs every contact on a patch with the sticking structure
-  /// (CompliantPatch::lever, lever_map_valid, sticking_version). W_AA p_A = -(v_free + b e_n +
-  /// W_AS p_S)_A by Woodbury over the kept Cholesky factors of the active sole blocks (updated
-  /// node by node when the set changes); the result is kept when it lies in the cones and
+  /// others separated (p = 0). Needs every contact on a patch with its rigid structure
+  /// (ContactProblem::patch_levers: lever, lever_map_valid, version). W_AA p_A = -(v_free +
+  /// b e_n + W_AS p_S)_A by Woodbury over the kept Cholesky factors of the active sole blocks
+  /// (updated node by node when the set changes); the result is kept when it lies in the cones and
   /// meets the tolerance (then it is an exact solution), else the iterative solver starts from
   /// it, projected onto the cones.
   bool sticking_direct = true;

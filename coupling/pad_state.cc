@@ -38,7 +38,8 @@ void PadState::set_block() {
   Eigen::MatrixXd& held =
       block().compliance_over_dt.size() != 0 ? block().compliance_over_dt : parked_;
   held = compliance_ * (a / ((theta * dt) * (theta * dt)));
-  contact::set_sticking_structure(block(), block().lever);
+  contact::set_sticking_structure(problem_->patch_levers[index_],
+                                  problem_->patch_levers[index_].lever);
   has_last_solve_ = false;
 }
 

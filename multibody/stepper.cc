@@ -71,7 +71,7 @@ void Stepper::resize_workspaces() {
     z.setZero(6, rank);
   }
   problem_.resize(max, rank);
-  for (auto& patch : problem_.patches) {
+  for (auto& patch : problem_.patch_levers) {
     patch.lever_map.setZero(6, rank);
     patch.lever_map_valid = false;
   }
@@ -159,7 +159,8 @@ int Stepper::add_deformable_patch(int body, const Eigen::Matrix3Xd& nodes, doubl
   problem_.patches.push_back(contact::CompliantPatch{});
   // The patch's rigid rows are (I (x) a) Lambda T with Lambda's node rows [I, -[rho]x] (body
   // frame) and T = blockdiag(R_b^T, R_b^T) H_b: the structure of the direct sticking solve.
-  contact::set_sticking_structure(problem_.patches.back(), contact::rigid_lever(nodes));
+  problem_.patch_levers.emplace_back();
+  contact::set_sticking_structure(problem_.patch_levers.back(), contact::rigid_lever(nodes));
   const int index = static_cast<int>(patches_.size()) - 1;
   patch.attach(problem_, index, parameters_.time_step, parameters_.theta);
   resize_workspaces();
@@ -450,10 +451,10 @@ void Stepper::assemble(int n, const Eigen::Ref<const Eigen::VectorXd>& v) {
   if (reduce_rigid_) {
     reduce_rigid_factor();
   }
-  // T = blockdiag(R_b^T, R_b^T) H_b of each patch in contact (CompliantPatch::lever_map).
+  // T = blockdiag(R_b^T, R_b^T) H_b of each patch in contact (PatchLever::lever_map).
   for (std::size_t j = 0; j < patches_.size(); ++j) {
-    contact::CompliantPatch& target = problem_.patches[j];
-    target.lever_map_valid = target.n_contacts > 0;
+    contact::PatchLever& target = problem_.patch_levers[j];
+    target.lever_map_valid = problem_.patches[j].n_contacts > 0;
     if (target.lever_map_valid) {
       const int s = body_slot_[patches_[j].body];
       const Eigen::Matrix<double, 6, Eigen::Dynamic>& h =

@@ -1,6 +1,6 @@
 #pragma once
 // Test fixture: a contact problem of two soles fixed to two rigid bodies, with the rigid rows
-// in the factored form of CompliantPatch::lever (G_j = (I (x) R_j) Lambda_j T_j) and a known
+// in the factored form of PatchLever::lever (G_j = (I (x) R_j) Lambda_j T_j) and a known
 // solution in which every contact sticks.
 #include "contact/contact_problem.h"
 
@@ -62,18 +62,20 @@ inline StickingProblem sticking_problem(int n_nodes, int m, double patch_scale, 
     patch.rotation =
         Eigen::AngleAxisd(0.4 * unit(rng), Eigen::Vector3d(unit(rng), unit(rng), 1).normalized())
             .toRotationMatrix();
-    patch.lever_map.resize(6, m);
+    PatchLever structure;
+    structure.lever_map.resize(6, m);
     for (int r = 0; r < 6; ++r)
       for (int c = 0; c < m; ++c)
-        patch.lever_map(r, c) = 0.3 * unit(rng);
-    patch.lever_map_valid = true;
+        structure.lever_map(r, c) = 0.3 * unit(rng);
+    structure.lever_map_valid = true;
     const Eigen::MatrixXd lever = rigid_lever(nodes);
-    set_sticking_structure(patch, lever);
-    const Eigen::MatrixXd rows = lever * patch.lever_map; // patch frame
+    set_sticking_structure(structure, lever);
+    const Eigen::MatrixXd rows = lever * structure.lever_map; // patch frame
     for (int k = 0; k < n_nodes; ++k)
       problem.rigid_factor.middleRows<3>(3 * (patch.first_contact + k)) =
           patch.rotation * rows.middleRows<3>(3 * k);
     problem.patches.push_back(patch);
+    problem.patch_levers.push_back(structure);
   }
   out.solution.resize(3 * n);
   for (int k = 0; k < n; ++k) {

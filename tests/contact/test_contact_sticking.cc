@@ -1,5 +1,5 @@
 // The direct solve of an all-sticking problem (SolverSettings::sticking_direct,
-// contact_solver_sticking.cc) against a known sticking solution, the dense W and the
+// sticking_solver.cc) against a known sticking solution, the dense W and the
 // Gauss-Seidel iteration; when it must refuse (and the iteration starts from the refused
 // candidate); a sliding contact held; a stiff sole; the kept inverse on ill-conditioned soles.
 #include "contact/contact_solver.h"
@@ -201,16 +201,16 @@ TEST(ContactSticking, NotTriedWithoutStructureOrStickingWarmStart) {
       Eigen::Vector2d(fixture.problem.friction[4] * on_cone[3 * 4], 0.0);
   EXPECT_EQ(solve(fixture.problem, on_cone, true), DirectAttempt::refused_cone);
   pc::ContactProblem no_map = fixture.problem;
-  no_map.patches[1].lever_map_valid = false; // the owner did not set T this step
+  no_map.patch_levers[1].lever_map_valid = false; // the owner did not set T this step
   EXPECT_EQ(solve(no_map, warm, true), DirectAttempt::not_tried);
   pc::ContactProblem no_structure = fixture.problem;
-  no_structure.patches[0].sticking_version = 0; // set_sticking_structure not called
+  no_structure.patch_levers[0].version = 0; // set_sticking_structure not called
   EXPECT_EQ(solve(no_structure, warm, true), DirectAttempt::not_tried);
   // A semi-definite block (a node not held): the factor cannot be built, the solver iterates.
   pc::ContactProblem singular = fixture.problem;
   singular.patches[0].compliance_over_dt.row(0).setZero();
   singular.patches[0].compliance_over_dt.col(0).setZero();
-  pc::set_sticking_structure(singular.patches[0], singular.patches[0].lever);
+  pc::set_sticking_structure(singular.patch_levers[0], singular.patch_levers[0].lever);
   Eigen::VectorXd p = warm;
   const pc::SolverResult r_singular = solver.solve(singular, settings_for(type, true, 1e-8), p);
   EXPECT_FALSE(r_singular.direct);
@@ -264,7 +264,7 @@ TEST(ContactSticking, ActiveSetsChangingBetweenSolves) {
       std::fill(separated.begin() + n_nodes, separated.end(), 1);
     if (solve == 41)
       std::fill(separated.begin() + n_nodes, separated.end(), 0);
-    auto fixture = base; // same patches (same sticking_version): the kept factors apply
+    auto fixture = base; // same patches (same PatchLever::version): the kept factors apply
     plantar::contact::test::separate_contacts(fixture, separated, 100 + solve);
     Eigen::VectorXd p = inside_warm_start(fixture.solution);
     const auto settings = settings_for(pc::ContactSolverType::gauss_seidel, true, 1e-10);

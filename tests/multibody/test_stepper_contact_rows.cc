@@ -201,8 +201,9 @@ TEST_F(ContactRows, RowsBlocksAndVelocityUpdateMatchDenseReference) {
     EXPECT_EQ(problem.rigid_factor.cols(), 18); // 6 per contact body (patch, left foot, hand)
     // The patch's factored rows (I (x) a) Lambda T (the direct solve's structure).
     const contact::CompliantPatch& patch = problem.patches[0];
-    ASSERT_TRUE(patch.sticking_version > 0 && patch.lever_map_valid);
-    const Eigen::MatrixXd factored = patch.lever * patch.lever_map;
+    const contact::PatchLever& structure = problem.patch_levers[0];
+    ASSERT_TRUE(structure.version > 0 && structure.lever_map_valid);
+    const Eigen::MatrixXd factored = structure.lever * structure.lever_map;
     Eigen::MatrixXd factored_contact(36, factored.cols());
     for (int k = 0; k < 12; ++k) {
       factored_contact.middleRows<3>(3 * k) = patch.rotation * factored.middleRows<3>(3 * k);

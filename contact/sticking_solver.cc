@@ -1,12 +1,11 @@
-// Direct solve on the warm start's active set (part of ContactSolver,
-// SolverSettings::sticking_direct).
+// Direct solve on the warm start's active set (StickingSolver, sticking_solver.h).
 //
 // The warm start predicts, per contact, sticking (p_n > 0, inside the cone by more than a
 // relative 1e-9), sliding (p_n > 0 on the cone: S, held at its warm-start impulse) or
 // separated (p = 0).
 // Sticking contacts then have zero De Saxce velocity: W_AA p_A = -c'_A with
 // c' = v_free + b e_n + W_AS p_S. With every contact on a patch whose rigid rows are
-// G_j = (I (x) R_j) Lambda_j T_j (CompliantPatch::lever, lever_map) and
+// G_j = (I (x) R_j) Lambda_j T_j (ContactProblem::patch_levers: lever, lever_map) and
 // D_A = blockdiag((I (x) R_j) C_j,AA (I (x) R_j)^T), C_j = C/dt^2 in the patch frame,
 // Woodbury gives, in patch frames, with L L^T = C_j,AA and Z = L^-1 Lambda_j,A:
 //   x_j = L^-1 c~'_j,A                                   (one triangular solve)
@@ -21,7 +20,7 @@
 // node is a triangular solve for its rows of L and Z (O(|A|^2)); removing one is a rank-3
 // update of the trailing factor whose rotations also update Z and Z^T Z (O(|A|^2)); the
 // factor is rebuilt from scratch after 60 updates.
-#include "contact/contact_solver.h"
+#include "contact/sticking_solver.h"
 
 #include "contact/coulomb_cone.h"
 #include "contact/dense_kernels.h"
@@ -59,7 +58,7 @@ inline void add_lever_transposed(const Eigen::MatrixXd& lever, int node, const E
 }
 } // namespace
 
-void ContactSolver::remove_active_node(int first, int position) {
+void StickingSolver::remove_active_node(int first, int position) {
   // L = [L11 0 0; L21 L22 0; L31 L32 L33] with the node's block in the middle: the factor
   // without it is [L11 0; L31 L33'] with L33' L33'^T = L33 L33^T + L32 L32^T.
   const int base = 3 * first;
@@ -108,7 +107,8 @@ void ContactSolver::remove_active_node(int first, int position) {
   }
 }
 
-bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
+bool StickingSolver::append_active_node(const CompliantPatch& patch, const PatchLever& structure,
+                                        int node) {
   // New rows [B^T L^-T, chol(C_nn - B^T C_AA^-1 B)], B = C_A,n (3 |A| x 3).
   const int first = patch.first_contact;
   const int base = 3 * first;
@@ -140,7 +140,7 @@ bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
   l.block<3, 3>(size, size) = d.triangularView<Eigen::Lower>();
   // Z = L^-1 Lambda_A gains the rows d^-1 (Lambda_n - b^T Z_A); Z^T Z gains their Gram.
   auto z = active_lever_solve_.middleRows(base, size + 3);
-  Eigen::Matrix<double, 3, 6> z_n = patch.lever.middleRows<3>(3 * node);
+  Eigen::Matrix<double, 3, 6> z_n = structure.lever.middleRows<3>(3 * node);
   z_n.noalias() -= b.transpose() * z.topRows(size);
   d.triangularView<Eigen::Lower>().solveInPlace(z_n);
   z.bottomRows<3>() = z_n;
@@ -151,15 +151,15 @@ bool ContactSolver::append_active_node(const CompliantPatch& patch, int node) {
   return true;
 }
 
-bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
+bool StickingSolver::update_active_factor(const ContactProblem& problem, int j) {
   const CompliantPatch& patch = problem.patches[j];
   const int first = patch.first_contact, n_nodes = patch.n_contacts;
-  bool owned = active_version_[j] == patch.sticking_version && active_first_[j] == first &&
+  bool owned = active_version_[j] == problem.patch_levers[j].version && active_first_[j] == first &&
                active_size_[j] == n_nodes;
   for (int k = first; owned && k < first + n_nodes; ++k)
     owned = active_owner_[k] == j;
   if (!owned || active_updates_[j] >= kMaxUpdates) { // start from an empty factor
-    active_version_[j] = patch.sticking_version;
+    active_version_[j] = problem.patch_levers[j].version;
     active_first_[j] = first;
     active_size_[j] = n_nodes;
     active_count_[j] = 0;
@@ -180,7 +180,7 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
   }
   for (int node = 0; node < n_nodes; ++node) {
     if (wanted_[first + node] && active_position_[first + node] < 0) {
-      if (!append_active_node(patch, node)) {
+      if (!append_active_node(patch, problem.patch_levers[j], node)) {
         active_version_[j] = -1; // not positive definite: start again next time
         return false;
       }
@@ -190,25 +190,59 @@ bool ContactSolver::update_active_factor(const ContactProblem& problem, int j) {
   return true;
 }
 
-bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSettings& settings,
-                                   Eigen::Ref<Eigen::VectorXd> impulses, SolverResult& result) {
+void StickingSolver::resize(int max_contacts, int rigid_rank) {
+  max_contacts_ = max_contacts;
+  rigid_rank_ = rigid_rank;
+  const int n3 = 3 * max_contacts;
+  sticking_p_.setZero(n3);
+  sticking_c_.setZero(n3);
+  sticking_full_.setZero(n3);
+  sticking_work_.setZero(n3);
+  sticking_columns_.setZero(n3, 3);
+  active_factor_.setZero(n3, n3);
+  active_lever_solve_.setZero(n3, 6);
+  active_gram_.setZero(6, 6 * max_contacts);
+  active_order_.setConstant(max_contacts, -1);
+  active_position_.setConstant(max_contacts, -1);
+  active_owner_.setConstant(max_contacts, -1);
+  active_version_.setConstant(max_contacts, -1);
+  active_first_.setConstant(max_contacts, -1);
+  active_size_.setConstant(max_contacts, -1);
+  active_count_.setZero(max_contacts);
+  active_updates_.setZero(max_contacts);
+  wanted_.setZero(max_contacts);
+  sliding_.setZero(max_contacts);
+  sticking_capacitance_.setZero(rigid_rank, rigid_rank);
+  sticking_y_.setZero(rigid_rank);
+  sticking_map_.setZero(6, rigid_rank);
+  g_sliding_.setZero(rigid_rank);
+}
+
+SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
+                                   Eigen::Ref<Eigen::VectorXd> impulses,
+                                   DelassusProducts& products) {
   const int n = problem.n_contacts;
   const int n3 = 3 * n;
   const int m = rigid_rank_;
+  SolverResult result;
   if (static_cast<int>(problem.patches.size()) > max_contacts_)
-    return false;
+    return result;
+  if (problem.patch_levers.size() != problem.patches.size())
+    return result;
   int covered = 0;
-  for (const CompliantPatch& patch : problem.patches) {
+  for (std::size_t j = 0; j < problem.patches.size(); ++j) {
+    const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     if (patch.n_contacts == 0)
       continue;
-    if (patch.sticking_version <= 0 || !patch.lever_map_valid ||
-        patch.lever.rows() != 3 * patch.n_contacts || patch.lever_map.rows() != 6 ||
-        patch.lever_map.cols() != m)
-      return false;
+    if (structure.version <= 0 || !structure.lever_map_valid ||
+        structure.lever.rows() != 3 * patch.n_contacts || structure.lever_map.rows() != 6 ||
+        structure.lever_map.cols() != m)
+      return result;
     covered += patch.n_contacts;
   }
   if (covered != n)
-    return false; // a contact without compliance: D singular
+    return result; // a contact without compliance: D singular
   int n_active = 0;
   for (int k = 0; k < n; ++k) { // the warm start's prediction: sticking, sliding or separated
     const double p_n = impulses[3 * k];
@@ -221,25 +255,26 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     n_active += wanted_[k];
   }
   if (n_active == 0)
-    return false;
+    return result;
 
-  start_ready_ = false; // rigid_work_ and patch_velocity_ are taken from here on
   // g_S = G^T p_S of the sliding contacts (held at their warm-start impulses).
-  auto g_sliding = rigid_work2_.head(m);
+  auto g_sliding = g_sliding_.head(m);
   g_sliding.setZero();
-  for (const CompliantPatch& patch : problem.patches) {
+  for (std::size_t j = 0; j < problem.patches.size(); ++j) {
+    const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     Vector6 t = Vector6::Zero();
     bool any = false;
     for (int node = 0; node < patch.n_contacts; ++node) {
       const int k = patch.first_contact + node;
       if (sliding_[k]) {
-        add_lever_transposed(patch.lever, node,
+        add_lever_transposed(structure.lever, node,
                              patch.rotation.transpose() * impulses.segment<3>(3 * k), t);
         any = true;
       }
     }
     if (any)
-      g_sliding.noalias() += patch.lever_map.transpose() * t;
+      g_sliding.noalias() += structure.lever_map.transpose() * t;
   }
 
   // x_j = C_j,AA^-1 c'_j,A with c' = c~ + C_AS p~_S + Lambda_A T_j g_S; S and G^T D_A^-1 c'.
@@ -247,15 +282,16 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   sticking_y_.setZero();
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     if (patch.n_contacts == 0)
       continue;
     if (!update_active_factor(problem, static_cast<int>(j))) {
       result.direct_attempt = DirectAttempt::failed;
-      return false;
+      return result;
     }
     const int first = patch.first_contact, count = active_count_[j];
     const int size = 3 * patch.n_contacts;
-    auto w = patch_velocity_.segment(3 * first, size); // C_:S p~_S (patch frame, node order)
+    auto w = products.patch_product.segment(3 * first, size); // C_:S p~_S (patch frame, node order)
     w.setZero();
     for (int node = 0; node < patch.n_contacts; ++node) {
       if (sliding_[first + node]) {
@@ -270,33 +306,33 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     // x = L^-1 c'; Lambda_A^T C_AA^-1 c' = Z^T x.
     auto c = sticking_c_.segment(3 * first, 3 * count);
     auto x = sticking_p_.segment(3 * first, 3 * count);
-    const Vector6 u_sliding = patch.lever_map * g_sliding;
+    const Vector6 u_sliding = structure.lever_map * g_sliding;
     for (int i = 0; i < count; ++i) {
       const int node = active_order_[first + i];
       const int k = first + node;
       Eigen::Vector3d c_k = problem.free_velocity.segment<3>(3 * k);
       c_k[0] += problem.normal_bias[k];
       c.segment<3>(3 * i).noalias() = patch.rotation.transpose() * c_k;
-      x.segment<3>(3 * i) =
-          c.segment<3>(3 * i) + w.segment<3>(3 * node) + lever_times(patch.lever, node, u_sliding);
+      x.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
+                            lever_times(structure.lever, node, u_sliding);
     }
     solve_lower(&active_factor_(3 * first, 3 * first), active_factor_.outerStride(), 3 * count,
                 x.data());
     const Vector6 t = active_lever_solve_.middleRows(3 * first, 3 * count).transpose() * x;
-    sticking_y_.noalias() += patch.lever_map.transpose() * t;
-    sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * patch.lever_map;
-    sticking_capacitance_.noalias() += patch.lever_map.transpose() * sticking_map_;
+    sticking_y_.noalias() += structure.lever_map.transpose() * t;
+    sticking_map_.noalias() = active_gram_.middleCols<6>(6 * first) * structure.lever_map;
+    sticking_capacitance_.noalias() += structure.lever_map.transpose() * sticking_map_;
   }
   if (Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(sticking_capacitance_) >= 0) {
     result.direct_attempt = DirectAttempt::failed;
-    return false;
+    return result;
   }
   auto s = sticking_capacitance_.triangularView<Eigen::Lower>();
   s.solveInPlace(sticking_y_);
   s.transpose().solveInPlace(sticking_y_); // z
 
   // p~_A, G^T p = G_A^T p_A + g_S; the candidate in contact frames.
-  rigid_work_.head(m) = g_sliding;
+  products.rigid.head(m) = g_sliding;
   sticking_full_.head(n3).setZero();
   int n_outside = 0;
   for (int k = 0; k < n; ++k)
@@ -304,12 +340,13 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       sticking_full_.segment<3>(3 * k) = impulses.segment<3>(3 * k);
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     const int first = patch.first_contact, count = patch.n_contacts > 0 ? active_count_[j] : 0;
     if (count == 0)
       continue;
     // p~_A = -L^-T (L^-1 c' - Z T z)
     auto x = sticking_p_.segment(3 * first, 3 * count);
-    const Vector6 u = patch.lever_map * sticking_y_;
+    const Vector6 u = structure.lever_map * sticking_y_;
     x.noalias() -= active_lever_solve_.middleRows(3 * first, 3 * count) * u;
     solve_lower_transposed(&active_factor_(3 * first, 3 * first), active_factor_.outerStride(),
                            3 * count, x.data());
@@ -317,18 +354,18 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     Vector6 t = Vector6::Zero();
     for (int i = 0; i < count; ++i) {
       const int node = active_order_[first + i];
-      add_lever_transposed(patch.lever, node, x.segment<3>(3 * i), t);
+      add_lever_transposed(structure.lever, node, x.segment<3>(3 * i), t);
       const Eigen::Vector3d p = patch.rotation * x.segment<3>(3 * i);
       const double mu = problem.friction[first + node];
       if (!(p[0] >= 0.0) || !(p[1] * p[1] + p[2] * p[2] <= mu * mu * p[0] * p[0]))
         ++n_outside;
       sticking_full_.segment<3>(3 * (first + node)) = p;
     }
-    rigid_work_.head(m).noalias() += patch.lever_map.transpose() * t;
+    products.rigid.head(m).noalias() += structure.lever_map.transpose() * t;
   }
   if (!sticking_full_.head(n3).allFinite()) {
     result.direct_attempt = DirectAttempt::failed;
-    return false;
+    return result;
   }
 
   // Patch products w = C_j (I (x) R)^T p (patch frame). Rows of A from the sticking
@@ -336,12 +373,13 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
   // columns (C is symmetric), or all rows by the columns of A and S when those are fewer.
   for (std::size_t j = 0; j < problem.patches.size(); ++j) {
     const CompliantPatch& patch = problem.patches[j];
+    const PatchLever& structure = problem.patch_levers[j];
     if (patch.n_contacts == 0)
       continue;
     const int first = patch.first_contact, count = active_count_[j];
     const int size = 3 * patch.n_contacts;
-    auto w = patch_velocity_.segment(3 * first, size); // holds C_:S p~_S
-    auto p_patch = sticking_work_.head(size);          // p~ in node order
+    auto w = products.patch_product.segment(3 * first, size); // holds C_:S p~_S
+    auto p_patch = sticking_work_.head(size);                 // p~ in node order
     for (int node = 0; node < patch.n_contacts; ++node)
       p_patch.segment<3>(3 * node).noalias() =
           patch.rotation.transpose() * sticking_full_.segment<3>(3 * (first + node));
@@ -354,11 +392,11 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       }
     } else {
       if (count > 0) {
-        const Vector6 v6 = patch.lever_map * rigid_work_.head(m);
+        const Vector6 v6 = structure.lever_map * products.rigid.head(m);
         for (int i = 0; i < count; ++i) {
           const int node = active_order_[first + i];
           w.segment<3>(3 * node) =
-              -(sticking_c_.segment<3>(3 * (first + i)) + lever_times(patch.lever, node, v6));
+              -(sticking_c_.segment<3>(3 * (first + i)) + lever_times(structure.lever, node, v6));
         }
       }
       for (int node = 0; node < patch.n_contacts; ++node) {
@@ -369,11 +407,11 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       }
     }
   }
-  velocity_.head(n3).noalias() = problem.rigid_factor.topRows(n3) * rigid_work_.head(m);
-  velocity_.head(n3) += problem.free_velocity.head(n3);
-  add_patch_velocities(problem);
+  products.velocity.head(n3).noalias() = problem.rigid_factor.topRows(n3) * products.rigid.head(m);
+  products.velocity.head(n3) += problem.free_velocity.head(n3);
+  products.add_patch_velocities(problem);
   if (n_outside == 0) {
-    const double r = residual(problem, sticking_full_, velocity_);
+    const double r = products.residual(problem, sticking_full_, products.velocity);
     if (r <= settings.tolerance) {
       impulses.head(n3) = sticking_full_.head(n3);
       result = SolverResult{};
@@ -382,7 +420,7 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
       result.iterations = 0;
       result.residual = r;
       result.status = SolverStatus::converged;
-      return true;
+      return result;
     }
   }
   // Refused (a sticking contact outside its cone, a held sliding impulse, a separated
@@ -396,14 +434,13 @@ bool ContactSolver::solve_sticking(const ContactProblem& problem, const SolverSe
     if (delta.squaredNorm() == 0.0)
       continue;
     sticking_full_.segment<3>(3 * k) += delta;
-    add_impulse_change(problem, &problem.patches[patch_of_[k]], k, delta, rigid_work_.data(),
-                       patch_velocity_.data());
+    add_impulse_change(problem, &problem.patches[products.patch_of[k]], k, delta,
+                       products.rigid.data(), products.patch_product.data());
   }
   impulses.head(n3) = sticking_full_.head(n3);
-  start_ready_ = true;
   result.direct_attempt =
       n_outside > 0 ? DirectAttempt::refused_cone : DirectAttempt::refused_residual;
-  return false;
+  return result;
 }
 
 } // namespace plantar::contact

@@ -1,5 +1,5 @@
-// ADMM part of ContactSolver (see contact_solver.h).
-#include "contact/contact_solver.h"
+#include "contact/admm_solver.h"
+
 #include "contact/coulomb_cone.h"
 
 #include <Eigen/Cholesky>
@@ -14,7 +14,7 @@ namespace {
 // solves, trailing tiles by 64 x 64 x 64 products. Every Eigen kernel call
 // then fits its scratch under EIGEN_STACK_ALLOCATION_LIMIT, so, unlike
 // Eigen's blocked LLT (heap scratch above ~100 contacts), this never
-// allocates; measured as fast as the blocked LLT at 2400 rows.
+// allocates (timing against the blocked LLT in docs/contact.md).
 // Returns false if the matrix is not positive definite.
 template <typename Block> bool cholesky_in_place(Block&& block) {
   constexpr Eigen::Index kTile = 64;
@@ -42,7 +42,30 @@ template <typename Block> bool cholesky_in_place(Block&& block) {
 }
 } // namespace
 
-bool ContactSolver::factorize(const ContactProblem& problem, double shift) {
+void AdmmSolver::resize(int max_contacts, int rigid_rank) {
+  rigid_rank_ = rigid_rank;
+  const int n3 = 3 * max_contacts;
+  x_.setZero(n3);
+  z_.setZero(n3);
+  z_prev_.setZero(n3);
+  dual_.setZero(n3);
+  rhs_.setZero(n3);
+  patch_factor_.setZero(n3, n3);
+  patch_copy_.setZero(n3, n3);
+  low_rank_.setZero(n3, rigid_rank);
+  capacitance_.setZero(rigid_rank, rigid_rank);
+  rigid_work_.setZero(rigid_rank);
+  de_saxce_.setZero(max_contacts);
+  cached_first_.setConstant(max_contacts, -1);
+  cached_size_.setConstant(max_contacts, -1);
+  n_cached_patches_ = -1;
+  cached_shift_ = -1.0;
+  last_rho_ = 0.0;
+  n_patch_factorizations_ = 0;
+}
+
+bool AdmmSolver::factorize(const ContactProblem& problem, const DelassusProducts& products,
+                           double shift) {
   const int n = problem.n_contacts;
   const int n3 = 3 * n;
   const int m = rigid_rank_;
@@ -83,7 +106,7 @@ bool ContactSolver::factorize(const ContactProblem& problem, double shift) {
   // H = D^-1 G, column by column (triangular solves, no scratch memory).
   low_rank_.topRows(n3) = g;
   for (int k = 0; k < n; ++k)
-    if (patch_of_[k] < 0)
+    if (products.patch_of[k] < 0)
       low_rank_.middleRows<3>(3 * k) /= shift;
   for (const CompliantPatch& patch : problem.patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
@@ -107,15 +130,15 @@ bool ContactSolver::factorize(const ContactProblem& problem, double shift) {
 }
 
 // x = (W + c I)^-1 rhs = D^-1 rhs - H S^-1 G^T D^-1 rhs (Woodbury).
-void ContactSolver::solve_shifted(const ContactProblem& problem,
-                                  const Eigen::Ref<const Eigen::VectorXd>& rhs,
-                                  Eigen::Ref<Eigen::VectorXd> x) {
+void AdmmSolver::solve_shifted(const ContactProblem& problem, const DelassusProducts& products,
+                               const Eigen::Ref<const Eigen::VectorXd>& rhs,
+                               Eigen::Ref<Eigen::VectorXd> x) {
   const int n = problem.n_contacts;
   const int n3 = 3 * n;
   const int m = rigid_rank_;
   x.head(n3) = rhs.head(n3);
   for (int k = 0; k < n; ++k)
-    if (patch_of_[k] < 0)
+    if (products.patch_of[k] < 0)
       x.segment<3>(3 * k) /= shift_;
   for (const CompliantPatch& patch : problem.patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
@@ -131,49 +154,52 @@ void ContactSolver::solve_shifted(const ContactProblem& problem,
   if (m == 0)
     return;
   auto g = problem.rigid_factor.topRows(n3);
-  rigid_work2_.noalias() = g.transpose() * x.head(n3);
-  capacitance_.triangularView<Eigen::Lower>().solveInPlace(rigid_work2_);
-  capacitance_.triangularView<Eigen::Lower>().transpose().solveInPlace(rigid_work2_);
-  x.head(n3).noalias() -= low_rank_.topRows(n3) * rigid_work2_;
+  rigid_work_.noalias() = g.transpose() * x.head(n3);
+  capacitance_.triangularView<Eigen::Lower>().solveInPlace(rigid_work_);
+  capacitance_.triangularView<Eigen::Lower>().transpose().solveInPlace(rigid_work_);
+  x.head(n3).noalias() -= low_rank_.topRows(n3) * rigid_work_;
 }
 
-SolverResult ContactSolver::solve_admm(const ContactProblem& problem,
-                                       const SolverSettings& settings,
-                                       Eigen::Ref<Eigen::VectorXd> p) {
+SolverResult AdmmSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
+                               Eigen::Ref<Eigen::VectorXd> p, DelassusProducts& products,
+                               StartProducts /*start*/, ResidualHistory& history) {
   const int n = problem.n_contacts;
   const int n3 = 3 * n;
   SolverResult result;
   // Initial rho: the last solve's final rho if settings.warm_rho (then the
   // patch factorisations are usually reused), else rho_scale * mean diag W.
-  double rho = settings.rho_scale * mean_diagonal_;
+  double rho = settings.rho_scale * products.mean_diagonal;
   if (settings.warm_rho && last_rho_ > 0.0)
-    rho = std::clamp(last_rho_, 1e-4 * mean_diagonal_, 1e4 * mean_diagonal_);
-  const double eta = settings.proximal_scale * mean_diagonal_;
+    rho = std::clamp(last_rho_, 1e-4 * products.mean_diagonal, 1e4 * products.mean_diagonal);
+  const double eta = settings.proximal_scale * products.mean_diagonal;
 
   auto finish = [&](SolverStatus status) {
     result.status = status;
     result.rho = rho;
     if (status != SolverStatus::non_finite)
       last_rho_ = rho;
+    for (const CompliantPatch& patch : problem.patches) // for ContactSolver::patch_product()
+      products.compute_patch_product(patch, p);
     return result;
   };
 
   z_.head(n3) = p.head(n3);
-  compute_velocity(problem, z_);
-  result.residual = residual(problem, z_, velocity_);
+  products.compute_velocity(problem, z_);
+  result.residual = products.residual(problem, z_, products.velocity);
   if (result.residual <= settings.tolerance)
     return finish(SolverStatus::converged);
   // Dual warm start: rho u = -(De Saxce velocity) at the solution.
   for (int k = 0; k < n; ++k)
-    dual_.segment<3>(3 * k) = -de_saxce_velocity(velocity_.segment<3>(3 * k),
+    dual_.segment<3>(3 * k) = -de_saxce_velocity(products.velocity.segment<3>(3 * k),
                                                  problem.normal_bias[k], problem.friction[k]) /
                               rho;
   // De Saxce term s_k = mu_k ||v_t,k||, frozen while the inner convex problem
   // (cone-constrained QP with fixed s) is solved to a fraction of the outer
   // residual, then refreshed: a fixed point on s around a convergent ADMM.
   for (int k = 0; k < n; ++k)
-    de_saxce_[k] = problem.friction[k] * std::hypot(velocity_[3 * k + 1], velocity_[3 * k + 2]);
-  if (!factorize(problem, rho + eta))
+    de_saxce_[k] = problem.friction[k] *
+                   std::hypot(products.velocity[3 * k + 1], products.velocity[3 * k + 2]);
+  if (!factorize(problem, products, rho + eta))
     return finish(SolverStatus::non_finite);
   result.n_factorizations = 1;
   int last_update = 0;
@@ -188,15 +214,15 @@ SolverResult ContactSolver::solve_admm(const ContactProblem& problem,
       rhs_.segment<3>(3 * k) =
           r + (rho + eta) * z_.segment<3>(3 * k) - rho * dual_.segment<3>(3 * k);
     }
-    solve_shifted(problem, rhs_, x_);
+    solve_shifted(problem, products, rhs_, x_);
     z_prev_.head(n3) = z_.head(n3);
     for (int k = 0; k < n; ++k)
       z_.segment<3>(3 * k) =
           project_onto_cone(x_.segment<3>(3 * k) + dual_.segment<3>(3 * k), problem.friction[k]);
     dual_.head(n3) += x_.head(n3) - z_.head(n3);
-    compute_velocity(problem, z_);
-    result.residual = residual(problem, z_, velocity_);
-    record(it, result.residual);
+    products.compute_velocity(problem, z_);
+    result.residual = products.residual(problem, z_, products.velocity);
+    history.record(it, result.residual);
     if (!std::isfinite(result.residual)) {
       p.head(n3) = z_.head(n3);
       return finish(SolverStatus::non_finite);
@@ -208,21 +234,22 @@ SolverResult ContactSolver::solve_admm(const ContactProblem& problem,
     // Residual of the inner problem (s frozen); refresh s when it is small.
     double inner = 0.0;
     for (int k = 0; k < n; ++k) {
-      Eigen::Vector3d modified = velocity_.segment<3>(3 * k);
+      Eigen::Vector3d modified = products.velocity.segment<3>(3 * k);
       modified[0] += problem.normal_bias[k] + de_saxce_[k];
       const Eigen::Vector3d zk = z_.segment<3>(3 * k);
       inner = std::max(
           inner,
-          (zk - project_onto_cone(zk - eta_[k] * modified, problem.friction[k])).norm() / eta_[k]);
+          (zk - project_onto_cone(zk - products.eta[k] * modified, problem.friction[k])).norm() /
+              products.eta[k]);
     }
     if (inner <= 0.25 * result.residual) {
       // Damped refresh when the outer residual did not decrease (cycling).
       const double weight = result.residual < residual_at_refresh ? 1.0 : 0.5;
       residual_at_refresh = result.residual;
       for (int k = 0; k < n; ++k)
-        de_saxce_[k] +=
-            weight * (problem.friction[k] * std::hypot(velocity_[3 * k + 1], velocity_[3 * k + 2]) -
-                      de_saxce_[k]);
+        de_saxce_[k] += weight * (problem.friction[k] * std::hypot(products.velocity[3 * k + 1],
+                                                                   products.velocity[3 * k + 2]) -
+                                  de_saxce_[k]);
     }
     // rho adaptation, every rho_update_interval iterations: the OSQP rule
     // rho *= sqrt(primal / dual) on normalised residuals, applied when the
@@ -233,18 +260,20 @@ SolverResult ContactSolver::solve_admm(const ContactProblem& problem,
                             std::max({x_.head(n3).lpNorm<Eigen::Infinity>(),
                                       z_.head(n3).lpNorm<Eigen::Infinity>(), 1e-300});
       const double dual = rho * (z_.head(n3) - z_prev_.head(n3)).lpNorm<Eigen::Infinity>() /
-                          std::max({velocity_.head(n3).lpNorm<Eigen::Infinity>(),
+                          std::max({products.velocity.head(n3).lpNorm<Eigen::Infinity>(),
                                     rho * dual_.head(n3).lpNorm<Eigen::Infinity>(), 1e-300});
       const double ratio = primal / std::max(dual, 1e-300);
       if (ratio > settings.rho_update_ratio || ratio * settings.rho_update_ratio < 1.0)
         factor = std::sqrt(ratio);
-      factor = std::clamp(rho * factor, 1e-4 * mean_diagonal_, 1e4 * mean_diagonal_) / rho;
+      factor =
+          std::clamp(rho * factor, 1e-4 * products.mean_diagonal, 1e4 * products.mean_diagonal) /
+          rho;
     }
     if (factor != 1.0 && result.n_factorizations < settings.max_factorizations) {
       const double rho_new = rho * factor;
       dual_.head(n3) *= rho / rho_new;
       rho = rho_new;
-      if (!factorize(problem, rho + eta)) {
+      if (!factorize(problem, products, rho + eta)) {
         p.head(n3) = z_.head(n3);
         return finish(SolverStatus::non_finite);
       }
