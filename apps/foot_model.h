@@ -50,6 +50,9 @@ public:
                     walking::JointReference& reference) {
     (void)reference_model, (void)humanoid, (void)reference;
   }
+  /// Contact points of one foot, undeformed, in its sole frame (3 x n, m; the same for both
+  /// feet): e.g. to place a dropped robot by its lowest point.
+  virtual const Eigen::Matrix3Xd& contact_points() const = 0;
   /// Contact points of both feet together: the stepper's capacity.
   virtual int max_contacts() const = 0;
   /// Adds the contacts of both feet to @p stepper; @p sole_frames: model frames of the right

@@ -79,8 +79,12 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << s.planned_right_sole.transpose() << ")\n"
       << "left sole at the end: " << s.final_left_sole.transpose() << " m (planned "
       << s.planned_left_sole.transpose() << ")\n"
-      << "contact force at the end: " << s.final_contact_force.transpose() << " N\n"
-      << "contacts: up to " << s.max_active_contacts << " active, max penetration "
+      << "contact force at the end: " << s.final_contact_force.transpose() << " N\n";
+  if (s.n_pads > 0)
+    out << "pads: " << s.n_pads << " (" << s.n_pad_nodes << " contact nodes), force at the end "
+        << s.final_pad_force.transpose() << " N, max force on one pad " << s.max_pad_force
+        << " N, max compression " << s.max_pad_compression * 1e3 << " mm\n";
+  out << "contacts: up to " << s.max_active_contacts << " active, max penetration "
       << s.max_penetration * 1e3 << " mm\n"
       << "contact solver: " << s.n_solves << " solves, iterations mean "
       << (s.n_solves ? static_cast<double>(s.solver_iterations) / s.n_solves : 0.0) << " max "
@@ -182,6 +186,10 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "n_unconverged," << s.n_unconverged << "\n"
         << "max_solver_residual," << s.max_solver_residual << "\n"
         << "max_penetration," << s.max_penetration << "\n"
+        << "n_pads," << s.n_pads << "\n"
+        << "max_pad_force," << s.max_pad_force << "\n"
+        << "max_pad_compression," << s.max_pad_compression << "\n"
+        << "final_pad_force_z," << s.final_pad_force.z() << "\n"
         << "setup_wall_time," << s.setup_wall_time << "\n"
         << "loop_wall_time," << s.loop_wall_time << "\n";
   });

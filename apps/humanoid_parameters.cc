@@ -1,6 +1,7 @@
 #include "apps/humanoid_parameters.h"
 
 #include "apps/choice.h"
+#include "apps/number_list.h"
 #include "fem/sole_parameters.h"
 
 #include <Eigen/Geometry>
@@ -34,40 +35,6 @@ std::string footsteps_text(const std::vector<walking::Footstep>& steps) {
   for (std::size_t i = 0; i < steps.size(); ++i)
     out << (i ? "; " : "") << steps[i].x << ", " << steps[i].y << ", " << steps[i].yaw;
   return out.str();
-}
-
-/// The finite number that @p text is (surrounding blanks allowed), or nothing.
-std::optional<double> to_number(const std::string& text) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    return std::nullopt;
-  }
-  if (text.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(value))
-    return std::nullopt;
-  return value;
-}
-
-/// Comma-separated finite numbers, between @p min_count and @p max_count of them.
-std::vector<double> parse_numbers(const std::string& text, const std::string& parameter,
-                                  std::size_t min_count, std::size_t max_count) {
-  std::vector<double> values;
-  for (const std::string& item : dealii::Utilities::split_string_list(text, ',')) {
-    const std::optional<double> value = to_number(item);
-    if (!value)
-      throw std::invalid_argument(parameter + " = '" + text + "': '" + item +
-                                  "' is not a finite number");
-    values.push_back(*value);
-  }
-  if (values.size() < min_count || values.size() > max_count) {
-    std::ostringstream msg;
-    msg << parameter << " = '" << text << "': " << values.size() << " numbers, expected "
-        << min_count << (min_count == max_count ? "" : " or " + std::to_string(max_count));
-    throw std::invalid_argument(msg.str());
-  }
-  return values;
 }
 
 /// 'x, y, z' or 'x, y, z, roll, pitch, yaw' (m, rad; URDF rpy: R = Rz(yaw) Ry(pitch) Rx(roll)).
@@ -407,6 +374,10 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
                     "stand: time to settle before the 1 mm window is measured (s).");
   prm.declare_entry("Release height", "0.01", Double(0, 0.5),
                     "drop: height of the lowest contact point above the ground at release (m).");
+  prm.declare_entry("Drop posture", "", Anything(),
+                    "drop: joint angles held during the drop, 'joint: angle, ...' in degrees "
+                    "(metres for prismatic joints), over straight legs and Robot/Posture "
+                    "(e.g. bent knees for a drop onto knee pads).");
   prm.declare_entry("Fall height", "0.4", Double(0),
                     "The run fails (non-zero exit) if the waist goes below this height (m).");
   prm.declare_entry("Max penetration", "0.005", Double(0),
@@ -419,6 +390,7 @@ void SimulationParameters::parse(dealii::ParameterHandler& prm) {
   duration = prm.get_double("Duration");
   settle_time = prm.get_double("Settle time");
   release_height = prm.get_double("Release height");
+  drop_posture = parse_posture(prm.get("Drop posture"), "Simulation/Drop posture");
   fall_height = prm.get_double("Fall height");
   max_penetration = prm.get_double("Max penetration");
   require(time_step > 0, "Simulation/Time step", time_step, "in (0, 0.01]");

@@ -109,8 +109,11 @@ struct SimulationParameters {
   double theta = 1.0;           ///< Moreau-Jean theta, [0.5, 1] (multibody/stepper.h)
   double duration = 0;          ///< s, >= 0; 0: the whole reference (lean, walk), 5 s (stand, drop)
   double settle_time = 1.0;     ///< s, stand: time allowed to settle before the 1 mm window
-  double release_height = 0.01; ///< m, drop: soles (or FEM sole bottoms) above the ground, >= 0
-  double fall_height = 0.4;     ///< m: the run stops as failed if the waist goes below
+  double release_height = 0.01; ///< m, drop: the lowest contact point above the ground, >= 0
+  /// drop: (joint, angle [rad] or displacement [m]) overriding the straight legs and the
+  /// standing posture; empty: straight legs.
+  std::vector<std::pair<std::string, double>> drop_posture;
+  double fall_height = 0.4;       ///< m: the run stops as failed if the waist goes below
   double max_penetration = 0.005; ///< m: the run stops as failed if a contact sinks deeper
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

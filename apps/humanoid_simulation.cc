@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -82,6 +84,9 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   const double dt = sim.time_step;
   lift_ = foot_model_->lift();
   summary_.sole_thickness = lift_;
+  pads_ = std::make_unique<PadSet>(scene_.pads.pads);
+  pads_->resolve(model_);
+  pad_reports_.resize(pads_->size());
 
   // Configuration and velocity indices of the controlled joints.
   const std::vector<std::string>& names = humanoid_.joint_names;
@@ -106,19 +111,32 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   } else if (type == SceneType::drop) {
     if (duration <= 0)
       duration = 1.0;
-    // Straight legs (all leg joints 0), the posture elsewhere, waist upright above the
-    // origin at the height that puts the soles on z = 0.
+    // Straight legs (all leg joints 0), the posture elsewhere, then Simulation/Drop posture;
+    // waist upright above the origin at the height that puts the lowest contact point (feet
+    // and pads, undeformed) on z = 0.
     Eigen::VectorXd angles = humanoid_.posture;
     for (const auto& leg : humanoid_.leg_columns)
       for (int column : leg)
         angles[column] = 0.0;
+    for (const auto& [joint, angle] : sim.drop_posture) {
+      const auto found = std::find(names.begin(), names.end(), joint);
+      if (found == names.end())
+        throw std::invalid_argument("Simulation/Drop posture: '" + joint +
+                                    "' is not a controlled joint (Robot/Controlled joints)");
+      angles[found - names.begin()] = angle;
+    }
     Eigen::VectorXd q0 = model_.neutral_configuration();
     humanoid_.to_configuration(model_, angles, q0);
     multibody::forward_kinematics(model_, data_, q0);
-    const double sole_z =
-        multibody::frame_placement(model_, data_, sole_frames_[0]).translation.z();
+    double lowest = pads_->lowest_point(data_);
+    for (int foot = 0; foot < 2; ++foot) {
+      const multibody::SE3 sole = multibody::frame_placement(model_, data_, sole_frames_[foot]);
+      const Eigen::Matrix3Xd& points = foot_model_->contact_points();
+      for (Eigen::Index k = 0; k < points.cols(); ++k)
+        lowest = std::min(lowest, sole.act_point(points.col(k)).z());
+    }
     Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
-    base.translation() << 0, 0, -sole_z;
+    base.translation() << 0, 0, -lowest - lift_; // lift_: the feet's, added back by reference_at
     reference_.resize(2, duration, names);
     reference_.set(0, base, angles, Eigen::Vector3d::Zero());
     reference_.set(1, base, angles, Eigen::Vector3d::Zero());
@@ -159,12 +177,15 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
   stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
   stepper_parameters.solver.sweep_skip = scene_.contact.sweep_skip;
-  stepper_parameters.max_contacts = foot_model_->max_contacts();
+  stepper_parameters.max_contacts = foot_model_->max_contacts() + pads_->max_contacts();
   stepper_ = std::make_unique<multibody::Stepper>(model_, stepper_parameters);
   stepper_->set_gains(
       multibody::PdGains::Uniform(model_, scene_.control.stiffness, scene_.control.damping));
   foot_model_->attach(*stepper_, model_, sole_frames_, scene_.contact.friction);
+  pads_->attach(*stepper_);
   foot_model_->summarize(summary_);
+  summary_.n_pads = pads_->size();
+  summary_.n_pad_nodes = pads_->max_contacts();
 
   // Initial state: the reference at t = 0, lifted; at rest.
   q_ = model_.neutral_configuration();
@@ -202,10 +223,14 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     for (const char* suffix : {"_q", "_ref", "_tau"})
       joint_columns.push_back(name + suffix);
   joints_ = TimeSeries(joint_columns, rows);
-  contacts_ = TimeSeries({"t", "right_fx", "right_fy", "right_fz", "right_copx", "right_copy",
-                          "left_fx", "left_fy", "left_fz", "left_copx", "left_copy", "zmp_x",
-                          "zmp_y", "n_contacts", "solver_iterations", "solver_residual"},
-                         rows);
+  std::vector<std::string> contact_columns{
+      "t",       "right_fx",   "right_fy",          "right_fz",       "right_copx", "right_copy",
+      "left_fx", "left_fy",    "left_fz",           "left_copx",      "left_copy",  "zmp_x",
+      "zmp_y",   "n_contacts", "solver_iterations", "solver_residual"};
+  for (int i = 0; i < pads_->size(); ++i)
+    for (const char* suffix : {"_fx", "_fy", "_fz", "_compression"})
+      contact_columns.push_back(pads_->pad(i).name() + suffix);
+  contacts_ = TimeSeries(contact_columns, rows);
   summary_.time_step = dt;
   summary_.setup_wall_time = seconds_since(setup_start_);
 }
@@ -315,6 +340,21 @@ void HumanoidSimulation::step() {
     foot_model_->report(foot, data_, dt, foot_reports_[foot]);
     summary_.max_penetration = std::max(summary_.max_penetration, foot_reports_[foot].depth);
   }
+  Eigen::Vector3d pad_force = Eigen::Vector3d::Zero();
+  for (int i = 0; i < pads_->size(); ++i) {
+    PadReport& pad = pad_reports_[i];
+    pads_->report(i, data_, pad);
+    pad_force += pad.force;
+    summary_.max_penetration = std::max(summary_.max_penetration, pad.depth);
+    summary_.max_pad_force = std::max(summary_.max_pad_force, pad.force.norm());
+    summary_.max_pad_compression = std::max(summary_.max_pad_compression, pad.compression);
+    try {
+      pads_->check(i, pad);
+    } catch (const std::exception& e) {
+      fail(e.what());
+    }
+  }
+  summary_.final_pad_force = pad_force;
   try {
     foot_model_->update(data_);
   } catch (const std::exception& e) {
@@ -330,7 +370,7 @@ void HumanoidSimulation::step() {
   }
   const Eigen::Vector3d& force_r = foot_reports_[0].force;
   const Eigen::Vector3d& force_l = foot_reports_[1].force;
-  summary_.final_contact_force = force_r + force_l;
+  summary_.final_contact_force = force_r + force_l + pad_force;
   summary_.n_steps = step_;
   summary_.simulated_time = t;
   if (step_ == n_steps_) {
@@ -381,6 +421,13 @@ void HumanoidSimulation::step() {
   cr[13] = report.n_contacts;
   cr[14] = report.solver.iterations;
   cr[15] = report.solver.residual;
+  for (int i = 0; i < pads_->size(); ++i) {
+    const PadReport& pad = pad_reports_[i];
+    cr[16 + 4 * i] = pad.force.x();
+    cr[17 + 4 * i] = pad.force.y();
+    cr[18 + 4 * i] = pad.force.z();
+    cr[19 + 4 * i] = pad.compression;
+  }
 }
 
 void HumanoidSimulation::run(const std::function<void(const HumanoidSimulation&)>& after_step) {

@@ -9,14 +9,17 @@
 //   waist velocity (world) v_w = R_base v_base,lin;  acceleration a_n = (v_w,n+1 - v_w,n) / dt
 //   (backward difference of consecutive step velocities; v_w,0 = 0 at rest)
 //   per foot: force F = sum p_k / dt (world), CoP = sum f_z,k x_k / sum f_z,k over its contact
-//   points x_k (world, after the step); ZMP = the same over both feet (flat ground z = 0).
+//   points x_k (world, after the step); ZMP = the same over both feet (flat ground z = 0);
+//   per pad (Pad 1 ... Pad 6, apps/pad_set.h): its force and compression (not in the ZMP).
 // Failures stop the run with std::runtime_error naming the step and time: non-finite state,
 // an unconverged contact solve with residual above Contact/Failure residual, a contact deeper
-// than Simulation/Max penetration, the waist below Simulation/Fall height.
+// than Simulation/Max penetration, the waist below Simulation/Fall height, a pad compressed
+// beyond its Max compression.
 // Everything is allocated by the constructor; step() allocates nothing.
 
 #include "apps/foot_model.h"
 #include "apps/humanoid_summary.h"
+#include "apps/pad_set.h"
 #include "apps/scene.h"
 #include "apps/time_series.h"
 #include "multibody/data.h"
@@ -71,6 +74,8 @@ public:
   const multibody::Stepper& stepper() const { return *stepper_; }
   /// The feet: their contacts, sole frames and fields.
   const FootModel& foot_model() const { return *foot_model_; }
+  /// The deformable pads (possibly none).
+  const PadSet& pads() const { return *pads_; }
   /// Calls @p hook at the end of every step() whose count is a multiple of @p every (>= 1)
   /// and at the last step, after that step's failure checks. The hook may allocate.
   void set_output_hook(int every, std::function<void(const HumanoidSimulation&)> hook) {
@@ -92,6 +97,7 @@ private:
   walking::JointReference reference_;
   std::unique_ptr<multibody::Stepper> stepper_;
   multibody::Data data_;
+  std::unique_ptr<PadSet> pads_;
   std::array<int, 2> sole_frames_{};
   std::vector<int> joint_q_, joint_v_; ///< per controlled joint
   int n_steps_ = 0, step_ = 0;
@@ -105,6 +111,7 @@ private:
   Eigen::Vector3d waist_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d settle_position_ = Eigen::Vector3d::Zero();
   std::array<FootReport, 2> foot_reports_; ///< right, left: the last step's
+  std::vector<PadReport> pad_reports_;     ///< per pad: the last step's
   TimeSeries waist_, joints_, contacts_;
   HumanoidSummary summary_;
 };

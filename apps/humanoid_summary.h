@@ -38,7 +38,13 @@ struct HumanoidSummary {
   Eigen::Vector3d final_left_sole = Eigen::Vector3d::Zero();
   Eigen::Vector3d planned_right_sole = Eigen::Vector3d::Zero(); ///< planned (reference) at end
   Eigen::Vector3d planned_left_sole = Eigen::Vector3d::Zero();
-  Eigen::Vector3d final_contact_force = Eigen::Vector3d::Zero(); ///< both feet, N, world
+  Eigen::Vector3d final_contact_force = Eigen::Vector3d::Zero(); ///< feet and pads, N, world
+  // Deformable pads (subsections Pad 1 ... Pad 6; apps/pad_set.h):
+  int n_pads = 0;                 ///< pads of the scene
+  int n_pad_nodes = 0;            ///< their contact nodes together
+  double max_pad_force = 0;       ///< N, largest |force| on one pad over the run
+  double max_pad_compression = 0; ///< m, largest node compression of a pad over the run
+  Eigen::Vector3d final_pad_force = Eigen::Vector3d::Zero(); ///< all pads, N, world, at the end
   // Sole/Model = hyperelastic (both feet; coupling/nonlinear_condensed_sole.h):
   int sole_newton_checks = 0;      ///< Newton solves of the soles (force changed enough)
   int sole_recondensations = 0;    ///< tangent re-condensations

@@ -14,6 +14,7 @@ class RigidFoot : public FootModel {
 public:
   /// The outline of @p scene's Sole/Length x Sole/Width.
   explicit RigidFoot(const Scene& scene);
+  const Eigen::Matrix3Xd& contact_points() const override { return outline_; }
   int max_contacts() const override { return 2 * static_cast<int>(outline_.cols()); }
   void report(int foot, const multibody::Data& data, double dt, FootReport& out) const override;
 

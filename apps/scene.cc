@@ -65,14 +65,16 @@ void OutputParameters::parse(dealii::ParameterHandler& prm) {
 }
 
 void Scene::declare(dealii::ParameterHandler& prm) {
-  prm.declare_entry("Scene type", to_string(Scene().type), choice_pattern(scene_types),
-                    "static sole: the sole under a uniform ground reaction (Static load); "
-                    "stand: the robot standing still (bent knees) for Simulation/Duration; "
-                    "drop: straight legs, released Simulation/Release height above the ground; "
-                    "lean: waist roll ramped to Lean/Final angle; walk: the walk of subsection "
-                    "Walking (ZMP preview control, PD joint tracking). The humanoid scenes use "
-                    "Robot, Contact, Control, Simulation (and Sole for Robot/Foot form = fem "
-                    "sole, or for the outline of the rigid sole).");
+  prm.declare_entry(
+      "Scene type", to_string(Scene().type), choice_pattern(scene_types),
+      "static sole: the sole under a uniform ground reaction (Static load); "
+      "stand: the robot standing still (bent knees) for Simulation/Duration; "
+      "drop: straight legs (or Simulation/Drop posture), released with the lowest contact "
+      "point Simulation/Release height above the ground; "
+      "lean: waist roll ramped to Lean/Final angle; walk: the walk of subsection "
+      "Walking (ZMP preview control, PD joint tracking). The humanoid scenes use "
+      "Robot, Contact, Control, Simulation (and Sole for Robot/Foot form = fem "
+      "sole, or for the outline of the rigid sole).");
   prm.enter_subsection("Sole");
   fem::SoleParameters::declare(prm);
   SoleReductionParameters::declare(prm);
@@ -98,6 +100,7 @@ void Scene::declare(dealii::ParameterHandler& prm) {
   prm.enter_subsection("Simulation");
   SimulationParameters::declare(prm);
   prm.leave_subsection();
+  PadParameters::declare(prm);
   prm.enter_subsection("Output");
   OutputParameters::declare(prm);
   prm.leave_subsection();
@@ -133,6 +136,7 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   prm.enter_subsection("Simulation");
   simulation.parse(prm);
   prm.leave_subsection();
+  pads.parse(prm, scene_directory);
   prm.enter_subsection("Output");
   output.parse(prm);
   prm.leave_subsection();

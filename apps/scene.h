@@ -4,6 +4,7 @@
 // declare() and parse().
 
 #include "apps/humanoid_parameters.h"
+#include "apps/pad_parameters.h"
 #include "apps/sweep_parameters.h"
 #include "fem/sole_parameters.h"
 
@@ -56,6 +57,7 @@ struct Scene {
   WalkingSceneParameters walking;
   LeanSceneParameters lean;
   SimulationParameters simulation;
+  PadParameters pads; ///< subsections Pad 1 ... Pad 6, humanoid scenes
   OutputParameters output;
   SweepParameters sweep; ///< plantar sweep only
 

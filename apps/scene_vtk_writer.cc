@@ -26,6 +26,8 @@ SceneVtkWriter::SceneVtkWriter(const HumanoidSimulation& simulation,
     : directory_(directory), data_(simulation.model()) {
   shapes_ = make_link_shapes(simulation.model(), urdf_file, stick_radius);
   has_soles_ = simulation.foot_model().has_fields();
+  for (int i = 0; i < simulation.pads().size(); ++i)
+    pads_.push_back("pad_" + simulation.pads().pad(i).name());
   std::filesystem::create_directories(directory_ / "vtk");
 }
 
@@ -42,6 +44,8 @@ void SceneVtkWriter::write(const HumanoidSimulation& simulation) {
           foot, multibody::frame_placement(simulation.model(), data_, feet.sole_frame(foot)),
           directory_ / frame_name(std::string("sole_") + foot_names[foot], frame));
   }
+  for (int i = 0; i < static_cast<int>(pads_.size()); ++i)
+    simulation.pads().write_fields(i, data_, directory_ / frame_name(pads_[i], frame));
   times_.push_back(simulation.time());
   write_pvd();
 }
@@ -60,15 +64,12 @@ void SceneVtkWriter::write_pvd() const {
     });
   };
   std::vector<std::string> all{"links"};
-  write("links.pvd", {"links"});
-  if (!has_soles_) {
-    write("scene.pvd", all);
-    return;
-  }
-  for (const char* foot : foot_names) {
-    all.push_back(std::string("sole_") + foot);
-    write(std::string("sole_") + foot + ".pvd", {all.back()});
-  }
+  if (has_soles_)
+    for (const char* foot : foot_names)
+      all.push_back(std::string("sole_") + foot);
+  all.insert(all.end(), pads_.begin(), pads_.end());
+  for (const std::string& part : all)
+    write(part + ".pvd", {part});
   write("scene.pvd", all);
 }
 

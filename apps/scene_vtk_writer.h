@@ -21,8 +21,10 @@
 //     update() that moved more than Sole/Check tolerance; the writer solves nothing, so output
 //     does not change the run), strain the Green-Lagrange strain and stress, von_mises the
 //     Cauchy stress of the hyperelastic law (sole frame).
-// <directory>/{links,sole_right,sole_left}.pvd   one time series each
-// <directory>/scene.pvd                          all parts (0 links, 1 right, 2 left sole)
+// <directory>/vtk/pad_<name>_NNNNNN.vtu   each deformable pad (Pad 1 ... Pad 6, apps/pad_set.h):
+//     the same arrays as a linear sole, the pad frame at its place on its link
+// <directory>/{links,sole_right,sole_left,pad_<name>}.pvd   one time series each
+// <directory>/scene.pvd      all parts (0 links, then right and left sole, then the pads)
 // The .pvd files are rewritten (atomically) at every frame: a run that fails keeps a
 // readable series of the frames written so far. Frames allocate (output steps only).
 
@@ -56,7 +58,8 @@ private:
   std::filesystem::path directory_;
   std::vector<LinkShape> shapes_;
   multibody::Data data_;
-  bool has_soles_ = false; ///< the foot model writes sole fields
+  bool has_soles_ = false;        ///< the foot model writes sole fields
+  std::vector<std::string> pads_; ///< "pad_<name>" per pad
   std::vector<double> times_;
 };
 

@@ -22,6 +22,8 @@ namespace plantar::app {
 
 class SolePatchFoot : public FootModel {
 public:
+  /// The contact nodes (the bottom face, z = -thickness, or the reduced patches' centres).
+  const Eigen::Matrix3Xd& contact_points() const override { return nodes_; }
   int max_contacts() const override { return 2 * n_nodes(); }
   /// Force: the node forces at the step's end; depth: of the deformed nodes (z + u_n).
   void report(int foot, const multibody::Data& data, double dt, FootReport& out) const override;

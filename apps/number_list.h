@@ -1,0 +1,19 @@
+#pragma once
+// Lists of numbers in scene entries ('0.1, 0.2, 0.3').
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace plantar::app {
+
+/// The finite number that @p text is (surrounding blanks allowed), or nothing.
+std::optional<double> to_number(const std::string& text);
+
+/// Comma-separated finite numbers, between @p min_count and @p max_count of them. Throws
+/// std::invalid_argument naming @p parameter, the text and what is wrong.
+std::vector<double> parse_numbers(const std::string& text, const std::string& parameter,
+                                  std::size_t min_count, std::size_t max_count);
+
+} // namespace plantar::app
