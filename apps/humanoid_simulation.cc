@@ -1,5 +1,6 @@
 #include "apps/humanoid_simulation.h"
 
+#include "apps/scene_reference.h"
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
 #include "multibody/walking/walking_reference.h"
@@ -79,7 +80,6 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
       model_(build_model(scene_, foot_model_.get())),
       reference_model_(build_model(scene_, nullptr)), humanoid_(resolve_humanoid(model_, scene_)),
       reference_humanoid_(resolve_humanoid(reference_model_, scene_)), data_(model_) {
-  const SceneType type = scene_.type;
   const auto& sim = scene_.simulation;
   const double dt = sim.time_step;
   lift_ = foot_model_->lift();
@@ -97,74 +97,22 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   sole_frames_ = humanoid_.sole_frames;
   angles_.setZero(humanoid_.n_joints());
 
-  // Reference (on the robot without compliant ankles).
+  // Reference (on the robot without compliant ankles): the scene type's (scene_reference.h).
   walking::PostureParameters posture;
   posture.com_height = scene_.robot.com_height;
   posture.leg_ik = scene_.robot.leg_ik;
-  const auto& walk = scene_.walking.walk;
-  double duration = sim.duration;
-  if (type == SceneType::stand) {
-    if (duration <= 0)
-      duration = sim.settle_time + 5.0;
-    reference_ = walking::make_standing_reference(reference_model_, reference_humanoid_, duration,
-                                                  walk.initial_right, walk.initial_left, posture);
-  } else if (type == SceneType::drop) {
-    if (duration <= 0)
-      duration = 1.0;
-    // Straight legs (all leg joints 0), the posture elsewhere, then Simulation/Drop posture;
-    // waist upright above the origin at the height that puts the lowest contact point (feet
-    // and pads, undeformed) on z = 0.
-    Eigen::VectorXd angles = humanoid_.posture;
-    for (const auto& leg : humanoid_.leg_columns)
-      for (int column : leg)
-        angles[column] = 0.0;
-    for (const auto& [joint, angle] : sim.drop_posture) {
-      const auto found = std::find(names.begin(), names.end(), joint);
-      if (found == names.end())
-        throw std::invalid_argument("Simulation/Drop posture: '" + joint +
-                                    "' is not a controlled joint (Robot/Controlled joints)");
-      angles[found - names.begin()] = angle;
-    }
-    Eigen::VectorXd q0 = model_.neutral_configuration();
-    humanoid_.to_configuration(model_, angles, q0);
-    multibody::forward_kinematics(model_, data_, q0);
-    double lowest = pads_->lowest_point(data_);
-    for (int foot = 0; foot < 2; ++foot) {
-      const multibody::SE3 sole = multibody::frame_placement(model_, data_, sole_frames_[foot]);
-      const Eigen::Matrix3Xd& points = foot_model_->contact_points();
-      for (Eigen::Index k = 0; k < points.cols(); ++k)
-        lowest = std::min(lowest, sole.act_point(points.col(k)).z());
-    }
-    Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
-    base.translation() << 0, 0, -lowest - lift_; // lift_: the feet's, added back by reference_at
-    reference_.resize(2, duration, names);
-    reference_.set(0, base, angles, Eigen::Vector3d::Zero());
-    reference_.set(1, base, angles, Eigen::Vector3d::Zero());
-    lift_ += sim.release_height; // only the initial state: the base is not actuated
-  } else if (type == SceneType::lean) {
-    walking::LeanParameters lean;
-    lean.final_angle = scene_.lean.final_angle_deg * M_PI / 180.0;
-    lean.start_time = scene_.lean.start_time;
-    lean.ramp_time = scene_.lean.ramp_time;
-    lean.hold_time = scene_.lean.hold_time;
-    reference_ = walking::make_lean_reference(reference_model_, reference_humanoid_, lean,
-                                              walk.initial_right, walk.initial_left, posture);
-  } else {
-    walking::PreviewControlParameters preview;
-    preview.period = walk.period;
-    preview.preview_time = scene_.walking.preview_time;
-    // The ZMP is on the ground, lift_ (the fem sole's thickness) below the sole frames.
-    walking::WalkingParameters lifted = walk;
-    lifted.ground_clearance = lift_;
-    const auto pattern = walking::make_walking_pattern(reference_model_, reference_humanoid_,
-                                                       lifted, preview, posture);
-    reference_ = pattern.reference;
-  }
+  SceneReference scene_reference =
+      make_scene_reference({scene_, model_, humanoid_, reference_model_, reference_humanoid_,
+                            *foot_model_, *pads_, lift_, posture});
+  reference_ = std::move(scene_reference.reference);
+  double duration = scene_reference.duration;
+  const double initial_lift = scene_reference.initial_lift;
+  lift_ += initial_lift;
   foot_model_->plan(reference_model_, reference_humanoid_, reference_);
   if (duration <= 0)
     duration = reference_.duration();
   n_steps_ = static_cast<int>(std::lround(duration / dt));
-  settle_time_ = type == SceneType::stand ? sim.settle_time : 0.0;
+  settle_time_ = scene_reference.settle_time;
 
   // Stepper and feet.
   multibody::StepperParameters stepper_parameters;
@@ -196,10 +144,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   reference_at(0.0, q_);
   q_ref_prev_ = q_;
   foot_model_->set_state(false, q_); // e.g. compensated ankles: the predicted deflection
-  if (type == SceneType::drop) {
-    // The planned (reference) base is on the ground: lift_ only applies to the initial state.
-    lift_ -= sim.release_height;
-  }
+  lift_ -= initial_lift;             // the planned (reference) base is on the ground
 
   // Planned sole positions at the end (reference kinematics, lifted).
   {
