@@ -1,0 +1,76 @@
+#include "contact/auto_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace plantar::contact {
+
+SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
+                               Eigen::Ref<Eigen::VectorXd> p, DelassusProducts& products,
+                               StartProducts start, ResidualHistory& history) {
+  const int n3 = 3 * problem.n_contacts;
+  SolverSettings chunk = settings;
+  // The residual at the start (GS reports only its sweeps'); G^T p is unchanged by this, so
+  // held products stay valid.
+  products.compute_velocity(problem, p);
+  double before = products.residual(problem, p, products.velocity);
+  SolverResult gs;
+  int sweeps = 0;
+  SwitchReason reason = SwitchReason::none;
+  double rate = 0.0;
+  if (!(before <= settings.tolerance)) {
+    while (true) {
+      chunk.max_iterations =
+          std::min(settings.auto_check_interval, settings.max_iterations - sweeps);
+      history.offset = sweeps;
+      gs = gauss_seidel_.solve(problem, chunk, p, products, start, history);
+      start = StartProducts::build;
+      chunk.warm_start = false; // CompliantPatch::warm_product is of the first start only
+      sweeps += gs.iterations;
+      if (gs.status == SolverStatus::converged)
+        break;
+      if (gs.status == SolverStatus::non_finite || !p.head(n3).allFinite()) {
+        reason = SwitchReason::failed;
+        p.head(n3).setZero();
+        break;
+      }
+      const double after = gs.residual;
+      rate = gs.iterations > 0 ? std::pow(after / before, 1.0 / gs.iterations) : 1.0;
+      if (!(rate < 1.0)) {
+        reason = SwitchReason::stalled;
+        break;
+      }
+      if (std::log(settings.tolerance / after) / std::log(rate) > settings.auto_switch_sweeps) {
+        reason = SwitchReason::slow;
+        break;
+      }
+      if (sweeps >= settings.max_iterations) {
+        reason = SwitchReason::budget;
+        break;
+      }
+      before = after;
+    }
+  } else {
+    gs.status = SolverStatus::converged;
+    gs.residual = before;
+  }
+  history.offset = 0;
+  if (reason == SwitchReason::none) {
+    gs.iterations = sweeps;
+    gs.finished_by = ContactSolverType::gauss_seidel;
+    return gs;
+  }
+  history.offset = sweeps;
+  SolverResult result =
+      newton_.solve(problem, settings, p, products, StartProducts::build, history);
+  history.offset = 0;
+  result.finished_by = ContactSolverType::newton;
+  result.switch_reason = reason;
+  result.switch_iteration = sweeps;
+  result.switch_rate = rate;
+  result.n_local_solves = gs.n_local_solves;
+  result.iterations += sweeps;
+  return result;
+}
+
+} // namespace plantar::contact
