@@ -14,6 +14,19 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
   // held products stay valid.
   products.compute_velocity(problem, p);
   double before = products.residual(problem, p, products.velocity);
+  // Operation counts of one GS sweep and one Newton iteration (auto_solver.h).
+  const double n = problem.n_contacts;
+  double sweep_cost = 200.0 * n + 12.0 * n * problem.rigid_rank();
+  for (const CompliantPatch& patch : problem.patches)
+    sweep_cost += 18.0 * patch.n_contacts * patch.n_contacts;
+  if (!problem.general.empty())
+    sweep_cost += 2.0 * static_cast<double>(problem.general.nonzeros());
+  const double newton_cost = 2.0 / 3.0 * 27.0 * n * n * n + 18.0 * n * n;
+  const double sweeps_worth_newton = settings.auto_newton_iterations * newton_cost / sweep_cost;
+  constexpr int kWindow = 5;
+  double window_residual[kWindow] = {};
+  int window_sweeps[kWindow] = {};
+  int n_chunks = 0;
   SolverResult gs;
   int sweeps = 0;
   SwitchReason reason = SwitchReason::none;
@@ -34,13 +47,20 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
         p.head(n3).setZero();
         break;
       }
+      // The rate over the last kWindow intervals (GS's residual is not monotone).
       const double after = gs.residual;
-      rate = gs.iterations > 0 ? std::pow(after / before, 1.0 / gs.iterations) : 1.0;
+      window_residual[n_chunks % kWindow] = before;
+      window_sweeps[n_chunks % kWindow] = sweeps - gs.iterations;
+      ++n_chunks;
+      const int oldest = n_chunks < kWindow ? 0 : n_chunks % kWindow;
+      const int span = sweeps - window_sweeps[oldest];
+      rate = span > 0 ? std::pow(after / window_residual[oldest], 1.0 / span) : 1.0;
       if (!(rate < 1.0)) {
         reason = SwitchReason::stalled;
         break;
       }
-      if (std::log(settings.tolerance / after) / std::log(rate) > settings.auto_switch_sweeps) {
+      const double predicted = std::log(settings.tolerance / after) / std::log(rate);
+      if (predicted > settings.auto_switch_sweeps && predicted > sweeps_worth_newton) {
         reason = SwitchReason::slow;
         break;
       }

@@ -1,9 +1,15 @@
 #pragma once
 // The automatic choice (ContactSolverType::automatic): Gauss-Seidel from the warm start, its
-// rate measured every settings.auto_check_interval sweeps as
-//   rate = (r_end / r_start)^(1 / sweeps)   (residual ratio per sweep over the interval);
-// while rate < 1 and log(tol / r_end) / log(rate) <= settings.auto_switch_sweeps it goes on,
-// otherwise (or at max_iterations sweeps, or on non-finite values) semismooth Newton takes over
+// rate measured every settings.auto_check_interval sweeps over the last five intervals (GS's
+// residual is not monotone) as
+//   rate = (r_end / r_start)^(1 / sweeps)   (residual ratio per sweep over the window);
+// GS goes on while rate < 1 ("stalled" otherwise) and the predicted further sweeps s = log(tol /
+// r_end) / log(rate) are at most settings.auto_switch_sweeps or cost less than
+// settings.auto_newton_iterations Newton iterations, by operation counts:
+//   sweep  ~ 2 nnz(W rows) + 200 n     (general W: its entries; G G^T + patches: 12 n m +
+//                                       18 sum_j n_j^2),
+//   Newton ~ (2/3) (3n)^3 + 2 (3n)^2   (dense LU, all contacts active: an upper bound).
+// Otherwise (or at max_iterations sweeps, or on non-finite values) semismooth Newton takes over
 // from GS's iterate with its own budget of max_iterations. The result says which solver
 // finished, why and when it switched (SolverResult::finished_by, switch_reason,
 // switch_iteration, switch_rate); iterations counts GS sweeps plus Newton iterations.

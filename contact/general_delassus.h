@@ -48,6 +48,11 @@ public:
   int size() const { return size_; }
   /// Relative asymmetry of W as given to the last set_*() call (before any symmetrisation).
   double asymmetry() const { return asymmetry_; }
+  /// Stored entries: size()^2 (dense) or the sparse non-zeros.
+  long nonzeros() const {
+    return storage_ == Storage::sparse ? static_cast<long>(sparse_.nonZeros())
+                                       : static_cast<long>(size_) * size_;
+  }
   /// W_ij == W_ji for all ij (as stored).
   bool symmetric() const { return stored_asymmetry_ == 0.0; }
 

@@ -10,8 +10,9 @@
 // formulation used by the residual). Phi is piecewise smooth; an element of its generalized
 // Jacobian is J = A + B W with A = dPhi/dr, B = dPhi/du block diagonal (contact_function()).
 // Each iteration solves (J + delta I) d = -Phi, delta a small regularisation raised when the line
-// search fails (W may be rank-deficient), and takes r += t d with a non-monotone Armijo line
-// search on the merit 0.5 ||Phi||^2 (the best of the last 5 values as reference).
+// search fails or accepts only a short step (W may be rank-deficient), lowered after a full step,
+// and takes r += t d with a non-monotone Armijo line search on the merit 0.5 ||Phi||^2 (the
+// largest of the last 5 values as reference).
 //
 // The linear solve eliminates the separated contacts (a_k <= 0: Phi_k = r_k, rows of the
 // identity, d_k = -r_k) and factorises the rest densely (LU with partial pivoting, dense_lu.h):

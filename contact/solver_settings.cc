@@ -35,6 +35,8 @@ void SolverSettings::validate() const {
     bad("auto_check_interval", auto_check_interval, "[1, inf)");
   if (!(auto_switch_sweeps >= 1.0))
     bad("auto_switch_sweeps", auto_switch_sweeps, "[1, inf)");
+  if (!(auto_newton_iterations >= 1.0))
+    bad("auto_newton_iterations", auto_newton_iterations, "[1, inf)");
 }
 
 const char* to_string(SolverStatus status) {

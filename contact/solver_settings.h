@@ -65,9 +65,12 @@ struct SolverSettings {
   /// Automatic: Gauss-Seidel's rate is measured over this many sweeps. Range [1, inf).
   int auto_check_interval = 10;
   /// Automatic: switch to Newton when the measured rate rho (residual ratio per sweep) predicts
-  /// more than this many further sweeps to the tolerance, log(tol / r) / log(rho). Range [1,
-  /// inf).
+  /// more than this many further sweeps to the tolerance, log(tol / r) / log(rho), and those
+  /// sweeps cost more than auto_newton_iterations Newton iterations (operation counts, see
+  /// auto_solver.h). Range [1, inf).
   double auto_switch_sweeps = 100.0;
+  /// Automatic: Newton iterations expected after a switch, in the cost comparison. Range [1, inf).
+  double auto_newton_iterations = 20.0;
 
   /// Throws std::invalid_argument naming the field, its value and the allowed range.
   void validate() const;

@@ -1,15 +1,18 @@
 // fc3d_bench: Plantar's contact solvers against Siconos numerics 4.4 on Siconos-format
 // FrictionContactProblem files.
 //
-//   fc3d_bench [--tolerance 1e-8] [--max-iterations 10000] [--solvers gs,admm,newton,auto,
-//              nsgs,nsn_ac] FILE.dat...
+//   fc3d_bench [--tolerance 1e-8] [--max-iterations 10000] [--newton-iterations 500]
+//              [--solvers gs,admm,newton,auto,nsgs,nsn_ac] FILE.dat...
+//
+// --max-iterations caps GS, ADMM, auto (each of its phases) and NSGS; --newton-iterations caps
+// Plantar's Newton and Siconos's NSN_AC.
 //
 // Prints one line per problem and solver: problem, contacts, solver, iterations, seconds, the
 // error measure of Siconos (fc3d_compute_error, computed by Siconos) and status. Plantar's
-// solvers stop on their own natural-map residual: it starts at tolerance * ||q|| / sqrt(n) and
-// is divided by 10 (continuing from the iterate) while Siconos's error is above the tolerance,
-// at most 6 times; iterations and time add up over those rounds.
+// solvers are driven to Siconos's tolerance as in tests/contact/fc3d_solve.h (their own
+// residual tightened by 10 while Siconos's error is above it; iterations and time summed).
 #include "contact/contact_solver.h"
+#include "tests/contact/fc3d_solve.h"
 #include "tests/contact/siconos_format.h"
 #include "tests/contact/siconos_oracle.h"
 
@@ -33,35 +36,19 @@ struct Row {
 
 Row run_plantar(const SiconosProblem& source, const SiconosOracle& oracle, ContactSolverType type,
                 double tolerance, int max_iterations) {
-  ContactProblem problem;
-  pose_problem(source, problem);
-  ContactSolver solver(problem.n_contacts, 0);
-  SolverSettings settings;
-  settings.solver = type;
-  settings.max_iterations = max_iterations;
-  settings.warm_start = false;
-  settings.tolerance =
-      tolerance * std::max(source.q.norm(), 1e-300) / std::sqrt(std::max(1, problem.n_contacts));
-  Eigen::VectorXd r = Eigen::VectorXd::Zero(3 * problem.n_contacts);
+  const Fc3dSolve solve =
+      solve_to_tolerance(source, type, tolerance, max_iterations,
+                         [&](const Eigen::VectorXd& r) { return oracle.error(r); });
   Row row;
-  SolverResult result;
-  for (int round = 0; round < 7; ++round) {
-    const auto start = std::chrono::steady_clock::now();
-    result = solver.solve(problem, settings, r);
-    row.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    row.iterations += result.iterations;
-    row.error = oracle.error(r);
-    if (row.error <= tolerance || !result.converged())
-      break;
-    settings.warm_start = true;
-    settings.tolerance *= 0.1;
-  }
-  row.status = row.error <= tolerance ? "converged" : to_string(result.status);
+  row.iterations = solve.iterations;
+  row.seconds = solve.seconds;
+  row.error = solve.error;
+  row.status = solve.converged ? "converged" : to_string(solve.last.status);
   if (type == ContactSolverType::automatic) {
     std::ostringstream note;
-    note << "finished_by=" << to_string(result.finished_by)
-         << " switch=" << to_string(result.switch_reason) << "@" << result.switch_iteration
-         << " rate=" << result.switch_rate;
+    note << "finished_by=" << to_string(solve.last.finished_by)
+         << " switch=" << to_string(solve.last.switch_reason) << "@" << solve.last.switch_iteration
+         << " rate=" << solve.last.switch_rate;
     row.note = note.str();
   }
   return row;
@@ -71,6 +58,7 @@ Row run_plantar(const SiconosProblem& source, const SiconosOracle& oracle, Conta
 int main(int argc, char** argv) {
   double tolerance = 1e-8;
   int max_iterations = 10000;
+  int newton_iterations = 500; // Newton-type solvers (newton, nsn_ac): an iteration costs more
   std::string solvers = "gs,admm,newton,auto,nsgs,nsn_ac";
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
@@ -79,11 +67,14 @@ int main(int argc, char** argv) {
       tolerance = std::atof(argv[++i]);
     else if (arg == "--max-iterations" && i + 1 < argc)
       max_iterations = std::atoi(argv[++i]);
+    else if (arg == "--newton-iterations" && i + 1 < argc)
+      newton_iterations = std::atoi(argv[++i]);
     else if (arg == "--solvers" && i + 1 < argc)
       solvers = argv[++i];
     else if (!arg.empty() && arg[0] == '-') {
-      std::fprintf(stderr, "usage: fc3d_bench [--tolerance t] [--max-iterations n] "
-                           "[--solvers gs,admm,newton,auto,nsgs,nsn_ac] FILE.dat...\n");
+      std::fprintf(stderr,
+                   "usage: fc3d_bench [--tolerance t] [--max-iterations n] [--newton-iterations n] "
+                   "[--solvers gs,admm,newton,auto,nsgs,nsn_ac] FILE.dat...\n");
       return 2;
     } else
       files.push_back(arg);
@@ -102,7 +93,8 @@ int main(int argc, char** argv) {
     for (const std::string& solver : names) {
       Row row;
       if (solver == "nsgs" || solver == "nsn_ac") {
-        const auto run = oracle.solve(solver == "nsgs" ? 500 : 504, tolerance, max_iterations);
+        const auto run = solver == "nsgs" ? oracle.solve(500, tolerance, max_iterations)
+                                          : oracle.solve(504, tolerance, newton_iterations);
         row.iterations = run.iterations;
         row.seconds = run.seconds;
         row.error = oracle.error(run.r);
@@ -112,7 +104,8 @@ int main(int argc, char** argv) {
                                        : solver == "admm"   ? ContactSolverType::admm
                                        : solver == "newton" ? ContactSolverType::newton
                                                             : ContactSolverType::automatic;
-        row = run_plantar(source, oracle, type, tolerance, max_iterations);
+        row = run_plantar(source, oracle, type, tolerance,
+                          type == ContactSolverType::newton ? newton_iterations : max_iterations);
       }
       std::printf("%-34s %6d %-8s %8d %10.4g %10.3g %-15s %s\n", name.c_str(), source.n_contacts,
                   solver.c_str(), row.iterations, row.seconds, row.error, row.status.c_str(),
