@@ -14,7 +14,7 @@ namespace {
 constexpr int kMeritMemory = 5;     // non-monotone line search: reference over these
 constexpr double kArmijo = 1e-4;    // sufficient decrease
 constexpr double kMinStep = 1e-10;  // smallest step length tried
-constexpr double kShortStep = 1e-2; // an accepted step shorter than this raises delta
+constexpr double kShortStep = 1e-4; // an accepted step shorter than this raises delta
 constexpr double kDeltaMin = 1e-12; // regularisation of J, bounds (J is dimensionless)
 constexpr double kDeltaMax = 1e-2;
 constexpr int kVelocityRefresh = 20; // u recomputed from r every this many iterations
@@ -240,7 +240,7 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
         if (t == 1.0)
           delta = std::max(0.1 * delta, kDeltaMin);
         else if (t < kShortStep)
-          delta = std::min(100.0 * delta, kDeltaMax);
+          delta = std::min(10.0 * delta, kDeltaMax);
         r += t * step_.head(n3);
         u += t * w_step_.head(n3);
         accepted = true;
