@@ -71,6 +71,15 @@ bool AdmmSolver::factorize(const ContactProblem& problem, const DelassusProducts
   const int m = rigid_rank_;
   shift_ = shift;
   auto g = problem.rigid_factor.topRows(n3);
+  if (!problem.general.empty()) {
+    // A general W: the symmetric part of the whole W plus shift I, factorised dense (no reuse).
+    auto block = patch_factor_.topLeftCorner(n3, n3);
+    problem.assemble_delassus_into(block, /*symmetric_part=*/true);
+    block.diagonal().array() += shift;
+    n_cached_patches_ = -1;
+    ++n_patch_factorizations_;
+    return cholesky_in_place(block);
+  }
   // D = blockdiag(C_j/dt^2 + c I) (patches, in their frames, Cholesky in place), c I elsewhere.
   // A patch factor is reused when the shift, the range and the block equal
   // those of the last factorisation (exact comparison with a kept copy, O(n^2)).
@@ -137,6 +146,13 @@ void AdmmSolver::solve_shifted(const ContactProblem& problem, const DelassusProd
   const int n3 = 3 * n;
   const int m = rigid_rank_;
   x.head(n3) = rhs.head(n3);
+  if (!problem.general.empty()) {
+    auto factor = patch_factor_.topLeftCorner(n3, n3);
+    auto head = x.head(n3);
+    factor.triangularView<Eigen::Lower>().solveInPlace(head);
+    factor.triangularView<Eigen::Lower>().transpose().solveInPlace(head);
+    return;
+  }
   for (int k = 0; k < n; ++k)
     if (products.patch_of[k] < 0)
       x.segment<3>(3 * k) /= shift_;
@@ -213,6 +229,13 @@ SolverResult AdmmSolver::solve(const ContactProblem& problem, const SolverSettin
       r[0] -= problem.normal_bias[k] + de_saxce_[k];
       rhs_.segment<3>(3 * k) =
           r + (rho + eta) * z_.segment<3>(3 * k) - rho * dual_.segment<3>(3 * k);
+    }
+    // A non-symmetric general W: its skew part taken explicitly at z (the factor holds the
+    // symmetric part).
+    if (!problem.general.symmetric()) {
+      x_.head(n3).setZero();
+      problem.general.add_skew_product(z_, x_);
+      rhs_.head(n3) -= x_.head(n3);
     }
     solve_shifted(problem, products, rhs_, x_);
     z_prev_.head(n3) = z_.head(n3);

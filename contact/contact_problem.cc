@@ -1,5 +1,6 @@
 #include "contact/contact_problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -49,6 +50,9 @@ void ContactProblem::validate(bool check_matrices) const {
   }
   if (check_matrices && !rigid_factor.topRows(3 * n_contacts).allFinite())
     fail("rigid_factor has non-finite entries");
+  if (!general.empty() && general.size() != 3 * n_contacts)
+    fail("general Delassus operator has size " + std::to_string(general.size()) +
+         ", expected 3 n_contacts = " + std::to_string(3 * n_contacts));
   int previous_end = 0;
   for (std::size_t j = 0; j < patches.size(); ++j) {
     const CompliantPatch& patch = patches[j];
@@ -93,6 +97,8 @@ Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
   }
   Eigen::Matrix3d block;
   block << s00, s01, s02, s01, s11, s12, s02, s12, s22;
+  if (!general.empty())
+    block += general.diagonal_block(contact);
   for (const CompliantPatch& patch : patches) {
     const int local = contact - patch.first_contact;
     if (local >= 0 && local < patch.n_contacts)
@@ -120,6 +126,9 @@ void ContactProblem::diagonal_traces(Eigen::Ref<Eigen::VectorXd> traces) const {
     for (int local = 0; local < patch.n_contacts; ++local)
       t[patch.first_contact + local] +=
           patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local).trace();
+  if (!general.empty())
+    for (int k = 0; k < n; ++k)
+      t[k] += general.diagonal_block(k).trace();
 }
 
 void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
@@ -141,13 +150,38 @@ void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
     rotate_from_patch(patch.rotation, segment);
   }
   out.head(n3).noalias() += g * rigid_work.head(m);
+  if (!general.empty())
+    general.add_product(p, out);
 }
 
 void ContactProblem::assemble_delassus(Eigen::MatrixXd& delassus) const {
+  delassus.resize(3 * n_contacts, 3 * n_contacts);
+  assemble_delassus_into(delassus);
+}
+
+void ContactProblem::assemble_delassus_into(Eigen::Ref<Eigen::MatrixXd> out,
+                                            bool symmetric_part) const {
   const int n3 = 3 * n_contacts;
+  if (out.rows() < n3 || out.cols() < n3)
+    fail("assemble_delassus_into: output is " + std::to_string(out.rows()) + "x" +
+         std::to_string(out.cols()) + ", needs " + std::to_string(n3) + " square");
   auto g = rigid_factor.topRows(n3);
-  delassus.resize(n3, n3);
-  delassus.noalias() = g * g.transpose();
+  auto delassus = out.topLeftCorner(n3, n3);
+  delassus.setZero();
+  // G G^T by 64-column panels of the product (Eigen's kernels stay under their stack limit).
+  for (int j = 0; j < n3; j += 64) {
+    const int jb = std::min(64, n3 - j);
+    for (int i = 0; i < n3; i += 64) {
+      const int ib = std::min(64, n3 - i);
+      for (int c = 0; c < g.cols(); c += 64) {
+        const int cb = std::min(64, static_cast<int>(g.cols()) - c);
+        delassus.block(i, j, ib, jb).noalias() +=
+            g.block(i, c, ib, cb) * g.block(j, c, jb, cb).transpose();
+      }
+    }
+  }
+  if (!general.empty())
+    general.add_to_dense(delassus, symmetric_part);
   for (const CompliantPatch& patch : patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
     for (int i = 0; i < size; i += 3)

@@ -6,7 +6,7 @@
 // 3k (normal), 3k+1, 3k+2 (two tangents), in its local frame:
 //
 //   v = W p + v_free                                 (3n, m/s)
-//   W = G G^T + blockdiag(C_j / dt^2)                (3n x 3n, m/(N s^2))
+//   W = W_gen + G G^T + blockdiag(C_j / dt^2)        (3n x 3n, m/(N s^2))
 //
 //   G (3n x m): the rigid part, J M^-1 J^T = G G^T with G = J L^-T, M = L L^T,
 //               so W_rigid is applied through its low rank m (<= n_v).
@@ -16,6 +16,8 @@
 //               eq. 12 is written for forces F: (W_F + C/dt) F with
 //               W_F = dt J M^-1 J^T. With impulses p = F dt the same block is
 //               C/dt^2 (see docs/contact.md and compliance_terms.h).
+//   W_gen     : optional general matrix (general_delassus.h; empty for the robot), for
+//               problems given as (W, q, mu), e.g. third-party ones.
 //
 // Conditions, per contact k (Signorini with Newton impact, exact Coulomb cone):
 //   0 <= p_n  _|_  v_n + b_k >= 0,   ||p_t|| <= mu_k p_n,
@@ -31,6 +33,7 @@
 // so building and solving a problem allocates nothing. (The patch matrices
 // must likewise be sized before the loop.)
 
+#include "contact/general_delassus.h"
 #include "contact/patch_lever.h"
 
 #include <Eigen/Core>
@@ -112,10 +115,16 @@ struct ContactProblem {
   /// Dense W (3 n_contacts square), for tests, diagnostics and small problems
   /// (allocates when @p delassus is resized).
   void assemble_delassus(Eigen::MatrixXd& delassus) const;
+  /// Writes W (or its symmetric part (W + W^T)/2 when @p symmetric_part) into the leading
+  /// 3 n_contacts square of @p delassus (at least that large). Does not allocate.
+  void assemble_delassus_into(Eigen::Ref<Eigen::MatrixXd> delassus,
+                              bool symmetric_part = false) const;
 
   int n_contacts = 0;                  ///< active contacts, first rows used
   Eigen::MatrixXd rigid_factor;        ///< G, (3 max_contacts x m)
   std::vector<CompliantPatch> patches; ///< compliant blocks, disjoint ranges
+  /// W_gen: empty, or of size 3 n_contacts (set after n_contacts, see general_delassus.h).
+  GeneralDelassus general;
   /// Optional rigid structure of each patch (empty, or parallel to patches), for the direct
   /// solve on the warm start's active set (SolverSettings::sticking_direct).
   std::vector<PatchLever> patch_levers;

@@ -1,8 +1,10 @@
 #include "contact/contact_solver.h"
 
 #include "contact/admm_solver.h"
+#include "contact/auto_solver.h"
 #include "contact/coulomb_cone.h"
 #include "contact/gauss_seidel_solver.h"
+#include "contact/semismooth_newton_solver.h"
 
 #include <cmath>
 #include <sstream>
@@ -12,13 +14,24 @@
 namespace plantar::contact {
 
 namespace {
-// The iterative solvers, registered by their ContactSolverType: nullptr past the last type.
-std::unique_ptr<IterativeSolver> make_iterative_solver(ContactSolverType type) {
+// The iterative solvers, registered by their ContactSolverType (@p made: those of the earlier
+// types): nullptr past the last type.
+std::unique_ptr<IterativeSolver>
+make_iterative_solver(ContactSolverType type,
+                      const std::vector<std::unique_ptr<IterativeSolver>>& made) {
   switch (type) {
   case ContactSolverType::gauss_seidel:
     return std::make_unique<GaussSeidelSolver>();
   case ContactSolverType::admm:
     return std::make_unique<AdmmSolver>();
+  case ContactSolverType::newton:
+    return std::make_unique<SemismoothNewtonSolver>();
+  case ContactSolverType::automatic: // runs the facade's Gauss-Seidel and Newton
+    return std::make_unique<AutoSolver>(
+        static_cast<GaussSeidelSolver&>(
+            *made[static_cast<std::size_t>(ContactSolverType::gauss_seidel)]),
+        static_cast<SemismoothNewtonSolver&>(
+            *made[static_cast<std::size_t>(ContactSolverType::newton)]));
   }
   return nullptr;
 }
@@ -26,7 +39,7 @@ std::unique_ptr<IterativeSolver> make_iterative_solver(ContactSolverType type) {
 
 ContactSolver::ContactSolver() {
   for (int type = 0;; ++type) {
-    auto solver = make_iterative_solver(static_cast<ContactSolverType>(type));
+    auto solver = make_iterative_solver(static_cast<ContactSolverType>(type), iterative_);
     if (solver == nullptr)
       break;
     iterative_.push_back(std::move(solver));
@@ -109,7 +122,7 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
   // The direct attempt, then the iteration (from the refused candidate and its products).
   DirectAttempt attempt = DirectAttempt::not_tried;
   StartProducts start = StartProducts::build;
-  if (settings.sticking_direct && settings.warm_start) {
+  if (settings.sticking_direct && settings.warm_start && problem.general.empty()) {
     result = sticking_.solve(problem, settings, impulses, products_);
     attempt = result.direct_attempt;
     if (attempt == DirectAttempt::accepted)
@@ -119,6 +132,8 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
   }
   result = iterative_[type]->solve(problem, settings, impulses, products_, start, history_);
   result.direct_attempt = attempt;
+  if (settings.solver != ContactSolverType::automatic)
+    result.finished_by = settings.solver;
   if (!impulses.head(3 * n).allFinite() || !std::isfinite(result.residual)) {
     result.status = SolverStatus::non_finite;
     impulses.head(3 * n).setZero();

@@ -2,10 +2,12 @@
 // Solver of the frictional contact problem of contact_problem.h: the facade over the contact
 // solvers, each a class with its own workspace sized once for max_contacts:
 //  * StickingSolver (sticking_solver.h): the direct solve on the warm start's active set,
-//    tried first when settings.sticking_direct and settings.warm_start;
+//    tried first when settings.sticking_direct and settings.warm_start (not for a problem with
+//    a general W, ContactProblem::general);
 //  * an IterativeSolver (iterative_solver.h) picked by settings.solver: GaussSeidelSolver
-//    (gauss_seidel_solver.h) or AdmmSolver (admm_solver.h), started from the direct solve's
-//    refused candidate and its products, else from the warm start (or zero).
+//    (gauss_seidel_solver.h), AdmmSolver (admm_solver.h), SemismoothNewtonSolver
+//    (semismooth_newton_solver.h) or AutoSolver (auto_solver.h: GS, then Newton), started from
+//    the direct solve's refused candidate and its products, else from the warm start (or zero).
 // They share the scales of W and the products of the current impulses through one
 // DelassusProducts (delassus_products.h). All report the natural-map residual
 // max_k || p_k - P_K(p_k - eta_k vt_k) || / eta_k (m/s), with vt the De Saxce velocity and
@@ -33,8 +35,8 @@ public:
     resize(max_contacts, rigid_rank);
   }
 
-  /// Sizes every workspace (memory ~ 216 max_contacts^2 bytes: ADMM's factor and its copy,
-  /// the direct solve's kept factors).
+  /// Sizes every workspace (memory ~ 360 max_contacts^2 bytes: ADMM's factor and its copy,
+  /// the direct solve's kept factors, Newton's W and Jacobian).
   void resize(int max_contacts, int rigid_rank);
   int max_contacts() const { return max_contacts_; }
 

@@ -79,6 +79,7 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
   // The same start is also where sweeps are listed: a sweep solves only the contacts whose
   // residual at the last check was above the skip, in order, with no residual at their turn.
   const bool listed = settings.sweep_skip > 0.0 && start == StartProducts::held;
+  const bool general = !problem.general.empty();
   if (listed)
     has_inverse_.head(n).setConstant(-1);
   else
@@ -95,6 +96,8 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
     products.velocity.head(n3).noalias() = g * products.rigid.head(m);
     products.velocity.head(n3) += problem.free_velocity.head(n3);
     products.add_patch_velocities(problem);
+    if (general)
+      problem.general.add_product(p, products.velocity);
     return products.residual(problem, p, products.velocity);
   };
   if (listed) { // the start's residuals, for the first sweep's list
@@ -140,6 +143,8 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
           v_k[1] += g_c[1] * y_c;
           v_k[2] += g_c[2] * y_c;
         }
+        if (general) // W_gen,k: p (its rows: no kept state)
+          v_k += problem.general.contact_rows_times(k, p.data());
         if (!kListed && skip > 0.0 &&
             contact_residual(p_old, v_k, problem.normal_bias[k], problem.friction[k],
                              products.eta[k]) <= skip)

@@ -1,5 +1,6 @@
 #pragma once
-// The interface of the iterative contact solvers (gauss_seidel_solver.h, admm_solver.h), each
+// The interface of the iterative contact solvers (gauss_seidel_solver.h, admm_solver.h,
+// semismooth_newton_solver.h, auto_solver.h), each
 // with its own workspace; ContactSolver (contact_solver.h) picks one by ContactSolverType.
 
 #include "contact/contact_problem.h"
@@ -21,8 +22,11 @@ enum class StartProducts {
 struct ResidualHistory {
   Eigen::VectorXd values;
   int size = 0;
+  /// Added to the iteration numbers recorded (a solver run after another continues its count).
+  int offset = 0;
   void record(int iteration, double value) {
-    if (iteration <= values.size()) {
+    iteration += offset;
+    if (iteration >= 1 && iteration <= values.size()) {
       values[iteration - 1] = value;
       size = iteration;
     }

@@ -31,6 +31,12 @@ void SolverSettings::validate() const {
     bad("rho_update_ratio", rho_update_ratio, "(1, inf)");
   if (max_factorizations < 1)
     bad("max_factorizations", max_factorizations, "[1, inf)");
+  if (auto_check_interval < 1)
+    bad("auto_check_interval", auto_check_interval, "[1, inf)");
+  if (!(auto_switch_sweeps >= 1.0))
+    bad("auto_switch_sweeps", auto_switch_sweeps, "[1, inf)");
+  if (!(auto_newton_iterations >= 1.0))
+    bad("auto_newton_iterations", auto_newton_iterations, "[1, inf)");
 }
 
 const char* to_string(SolverStatus status) {
@@ -67,6 +73,26 @@ const char* to_string(ContactSolverType type) {
     return "gauss_seidel";
   case ContactSolverType::admm:
     return "admm";
+  case ContactSolverType::newton:
+    return "newton";
+  case ContactSolverType::automatic:
+    return "auto";
+  }
+  return "unknown";
+}
+
+const char* to_string(SwitchReason reason) {
+  switch (reason) {
+  case SwitchReason::none:
+    return "none";
+  case SwitchReason::slow:
+    return "slow";
+  case SwitchReason::stalled:
+    return "stalled";
+  case SwitchReason::budget:
+    return "budget";
+  case SwitchReason::failed:
+    return "failed";
   }
   return "unknown";
 }
@@ -76,9 +102,13 @@ void throw_if_not_converged(const SolverResult& result, const SolverSettings& se
   if (result.converged())
     return;
   std::ostringstream msg;
-  msg << context << ": contact solver " << to_string(settings.solver) << " "
-      << to_string(result.status) << " after " << result.iterations << " iterations, residual "
-      << result.residual << " m/s > tolerance " << settings.tolerance << " m/s";
+  msg << context << ": contact solver " << to_string(settings.solver);
+  if (settings.solver == ContactSolverType::automatic)
+    msg << " (finished by " << to_string(result.finished_by) << ", switch "
+        << to_string(result.switch_reason) << ")";
+  msg << " " << to_string(result.status) << " after " << result.iterations
+      << " iterations, residual " << result.residual << " m/s > tolerance " << settings.tolerance
+      << " m/s";
   if (result.n_nonunique_local > 0 || result.n_failed_local > 0)
     msg << " (" << result.n_nonunique_local << " contacts with non-unique and "
         << result.n_failed_local << " with no local solution)";

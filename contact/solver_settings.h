@@ -8,6 +8,17 @@ namespace plantar::contact {
 enum class ContactSolverType {
   gauss_seidel, ///< nonsmooth Gauss-Seidel, exact 3x3 local solves (baseline)
   admm,         ///< ADMM with proximal term and adaptive rho (dense/coupled, ill-conditioned cases)
+  newton,       ///< semismooth Newton on the Alart-Curnier function (semismooth_newton_solver.h)
+  automatic,    ///< Gauss-Seidel while it converges fast, then Newton (auto_solver.h)
+};
+
+/// Why ContactSolverType::automatic left Gauss-Seidel for Newton.
+enum class SwitchReason {
+  none,    ///< no switch: Gauss-Seidel finished (or another solver was chosen)
+  slow,    ///< GS's measured rate predicted more than auto_switch_sweeps further sweeps
+  stalled, ///< GS's residual did not decrease over a check interval
+  budget,  ///< GS used max_iterations sweeps without converging
+  failed,  ///< GS produced non-finite values (Newton restarted from zero)
 };
 
 struct SolverSettings {
@@ -51,6 +62,15 @@ struct SolverSettings {
   int max_factorizations = 60;
   /// ADMM: start from the previous solve's final rho (lets the patch factorisation be reused).
   bool warm_rho = true;
+  /// Automatic: Gauss-Seidel's rate is measured over this many sweeps. Range [1, inf).
+  int auto_check_interval = 10;
+  /// Automatic: switch to Newton when the measured rate rho (residual ratio per sweep) predicts
+  /// more than this many further sweeps to the tolerance, log(tol / r) / log(rho), and those
+  /// sweeps cost more than auto_newton_iterations Newton iterations (operation counts, see
+  /// auto_solver.h). Range [1, inf).
+  double auto_switch_sweeps = 100.0;
+  /// Automatic: Newton iterations expected after a switch, in the cost comparison. Range [1, inf).
+  double auto_newton_iterations = 20.0;
 
   /// Throws std::invalid_argument naming the field, its value and the allowed range.
   void validate() const;
@@ -91,12 +111,21 @@ struct SolverResult {
   /// Gauss-Seidel: exact local solves done, summed over the sweeps (contacts left by the sweep
   /// skip not counted).
   int n_local_solves = 0;
+  /// The solver whose iterate was returned (settings.solver, or for automatic gauss_seidel or
+  /// newton).
+  ContactSolverType finished_by = ContactSolverType::gauss_seidel;
+  /// Automatic: why it switched to Newton, after how many GS sweeps (iterations counts both),
+  /// and GS's measured residual ratio per sweep over the last check interval.
+  SwitchReason switch_reason = SwitchReason::none;
+  int switch_iteration = 0;
+  double switch_rate = 0.0;
   bool converged() const { return status == SolverStatus::converged; }
 };
 
 const char* to_string(SolverStatus status);
 const char* to_string(ContactSolverType type);
 const char* to_string(DirectAttempt attempt);
+const char* to_string(SwitchReason reason);
 
 /// Throws std::runtime_error with solver, status, iterations, residual and
 /// tolerance unless @p result converged. @p context names the caller (e.g. "step 120").

@@ -87,7 +87,8 @@ TEST_P(RestingBox, NoDriftOverTenSeconds) {
 INSTANTIATE_TEST_SUITE_P(Points, RestingBox,
                          ::testing::Combine(::testing::Values(2, 3),
                                             ::testing::Values(pc::ContactSolverType::gauss_seidel,
-                                                              pc::ContactSolverType::admm)));
+                                                              pc::ContactSolverType::admm,
+                                                              pc::ContactSolverType::automatic)));
 
 TEST(HardCases, HeavyBoxOnLightBox) {
   // 1 kg box (0.2 m) on the ground, 1000 kg box (0.2 m) on top, 4 corner
@@ -97,13 +98,14 @@ TEST(HardCases, HeavyBoxOnLightBox) {
   struct Outcome {
     int n_unconverged = 0;
     double worst_residual = 0.0, worst_penetration = 0.0, mean_iterations = 0.0;
-  } outcome[2];
-  for (int s = 0; s < 2; ++s) {
+  } outcome[3];
+  for (int s = 0; s < 3; ++s) {
     RigidWorld world;
     add_box(world, 1.0, size, 0.1, 2, -1, 0.0, 0.5);
     add_box(world, 1000.0, size, 0.3, 2, 0, 0.1, 0.5);
-    world.settings.solver =
-        s == 0 ? pc::ContactSolverType::gauss_seidel : pc::ContactSolverType::admm;
+    world.settings.solver = s == 0   ? pc::ContactSolverType::gauss_seidel
+                            : s == 1 ? pc::ContactSolverType::admm
+                                     : pc::ContactSolverType::automatic;
     world.settings.tolerance = 1e-8;
     world.settings.max_iterations = 200;
     world.finalize();
@@ -130,6 +132,9 @@ TEST(HardCases, HeavyBoxOnLightBox) {
   // on most steps and its worst residual stays far above ADMM's.
   EXPECT_GT(outcome[0].n_unconverged, 250);
   EXPECT_GT(outcome[0].worst_residual, 100.0 * outcome[1].worst_residual);
+  // Auto (GS, then Newton when GS slows down) holds like ADMM.
+  EXPECT_EQ(outcome[2].n_unconverged, 0);
+  EXPECT_LE(outcome[2].worst_penetration, 1e-6);
 }
 
 TEST(HardCases, PainleveRod) {
@@ -253,7 +258,8 @@ TEST(HardCases, PositionCorrectionRemovesPenetration) {
   // box lifts by about the depth, lands exactly (speculative bias gap/dt)
   // and rests at gap 0.
   const double dt = 1e-3, beta = 0.2, depth = 1e-3;
-  for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm}) {
+  for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm,
+                          pc::ContactSolverType::automatic}) {
     RigidWorld world;
     add_box(world, 1.0, Eigen::Vector3d(0.2, 0.2, 0.2), 0.1 - depth, 2, -1, 0.0, 0.5);
     world.bias.position_correction = beta;

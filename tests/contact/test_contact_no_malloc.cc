@@ -60,6 +60,34 @@ TEST(ContactNoMalloc, SolveAndHelpersDoNotAllocate) {
   EXPECT_EQ(n_solves, 12);
 }
 
+TEST(ContactNoMalloc, NewtonAndAutoDoNotAllocate) {
+  // Shrinking problems (60, 45, 20 contacts, one patch) in one workspace, cold and warm.
+  const int max_contacts = 60, m = 12;
+  pc::ContactProblem problem =
+      plantar::contact::test::random_problem(max_contacts, m, max_contacts, 0.5, 7);
+  pc::ContactSolver solver(max_contacts, m);
+  Eigen::VectorXd impulses = Eigen::VectorXd::Zero(3 * max_contacts);
+  const Eigen::MatrixXd compliance = problem.patches[0].compliance_over_dt;
+  for (const int n : {60, 45, 20}) {
+    problem.n_contacts = n;
+    problem.patches[0].n_contacts = n;
+    problem.patches[0].compliance_over_dt = compliance.topLeftCorner(3 * n, 3 * n);
+    for (const auto type : {pc::ContactSolverType::newton, pc::ContactSolverType::automatic})
+      for (const bool warm : {false, true}) {
+        pc::SolverSettings settings;
+        settings.solver = type;
+        settings.warm_start = warm;
+        settings.max_iterations = 3000;
+        Eigen::internal::set_is_malloc_allowed(false);
+        const pc::SolverResult r = solver.solve(problem, settings, impulses);
+        Eigen::internal::set_is_malloc_allowed(true);
+        std::printf("n = %d, %s, warm %d: status %s, %d iterations, residual %.2e\n", n,
+                    pc::to_string(type), warm, pc::to_string(r.status), r.iterations, r.residual);
+        EXPECT_TRUE(r.converged());
+      }
+  }
+}
+
 TEST(ContactNoMalloc, LargePatchFactorisationDoesNotAllocate) {
   // 250 contacts in one dense patch (750 x 750 factor): Eigen's blocked LLT
   // would take heap scratch here; the solver's in-place Cholesky must not.
@@ -67,10 +95,11 @@ TEST(ContactNoMalloc, LargePatchFactorisationDoesNotAllocate) {
   pc::ContactProblem problem = plantar::contact::test::random_problem(n, m, n, 0.5, 3);
   pc::ContactSolver solver(n, m);
   Eigen::VectorXd impulses = Eigen::VectorXd::Zero(3 * n);
-  for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm}) {
+  for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm,
+                          pc::ContactSolverType::newton}) {
     pc::SolverSettings settings;
     settings.solver = type;
-    settings.max_iterations = 20;
+    settings.max_iterations = type == pc::ContactSolverType::newton ? 3 : 20;
     settings.rho_update_interval = 2; // force refactorisations
     Eigen::internal::set_is_malloc_allowed(false);
     const pc::SolverResult r = solver.solve(problem, settings, impulses);
@@ -88,8 +117,7 @@ TEST(ContactNoMalloc, StickingDirectSolveDoesNotAllocate) {
   const int n_nodes = 40, m = 12, n = 2 * n_nodes;
   pc::ContactSolver solver(n, m);
   for (const int outside : {-1, 3}) {
-    const auto fixture =
-        plantar::contact::test::sticking_problem(n_nodes, m, 1.0, 0.5, outside, 4);
+    const auto fixture = plantar::contact::test::sticking_problem(n_nodes, m, 1.0, 0.5, outside, 4);
     Eigen::VectorXd impulses = 0.9 * fixture.solution;
     impulses.segment<2>(3 * 3 + 1) *= 0.3;
     pc::SolverSettings settings;
@@ -102,5 +130,37 @@ TEST(ContactNoMalloc, StickingDirectSolveDoesNotAllocate) {
                 r.direct, r.iterations, r.residual);
     EXPECT_EQ(r.direct, outside < 0);
     EXPECT_TRUE(r.converged());
+  }
+}
+
+TEST(ContactNoMalloc, GeneralDelassusSolvesDoNotAllocate) {
+  // A dense and a sparse general W (non-symmetric, 2e-4), every solver, with the malloc guard.
+  const int n = 30;
+  pc::ContactProblem problem = plantar::contact::test::random_problem(n, 0, 0, 0.5, 9);
+  Eigen::MatrixXd a = Eigen::MatrixXd::Random(3 * n, 3 * n);
+  Eigen::MatrixXd w = a * a.transpose() / (3.0 * n) + 0.1 * Eigen::MatrixXd::Identity(3 * n, 3 * n);
+  w(0, 1) += 2e-4 * w.cwiseAbs().maxCoeff();
+  pc::ContactSolver solver(n, 0);
+  Eigen::VectorXd impulses = Eigen::VectorXd::Zero(3 * n);
+  for (int storage = 0; storage < 2; ++storage) {
+    if (storage == 0)
+      problem.general.set_dense(w);
+    else
+      problem.general.set_sparse(w.sparseView());
+    for (const auto type : {pc::ContactSolverType::gauss_seidel, pc::ContactSolverType::admm,
+                            pc::ContactSolverType::newton, pc::ContactSolverType::automatic}) {
+      pc::SolverSettings settings;
+      settings.solver = type;
+      settings.warm_start = false;
+      settings.max_iterations = 3000;
+      settings.tolerance = 1e-10;
+      Eigen::internal::set_is_malloc_allowed(false);
+      const pc::SolverResult r = solver.solve(problem, settings, impulses);
+      Eigen::internal::set_is_malloc_allowed(true);
+      std::printf("general %s, %s: %s after %d iterations, residual %.2e\n",
+                  storage ? "sparse" : "dense", pc::to_string(type), pc::to_string(r.status),
+                  r.iterations, r.residual);
+      EXPECT_TRUE(r.converged());
+    }
   }
 }

@@ -1,0 +1,96 @@
+#include "contact/auto_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace plantar::contact {
+
+SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
+                               Eigen::Ref<Eigen::VectorXd> p, DelassusProducts& products,
+                               StartProducts start, ResidualHistory& history) {
+  const int n3 = 3 * problem.n_contacts;
+  SolverSettings chunk = settings;
+  // The residual at the start (GS reports only its sweeps'); G^T p is unchanged by this, so
+  // held products stay valid.
+  products.compute_velocity(problem, p);
+  double before = products.residual(problem, p, products.velocity);
+  // Operation counts of one GS sweep and one Newton iteration (auto_solver.h).
+  const double n = problem.n_contacts;
+  double sweep_cost = 200.0 * n + 12.0 * n * problem.rigid_rank();
+  for (const CompliantPatch& patch : problem.patches)
+    sweep_cost += 18.0 * patch.n_contacts * patch.n_contacts;
+  if (!problem.general.empty())
+    sweep_cost += 2.0 * static_cast<double>(problem.general.nonzeros());
+  const double newton_cost = 2.0 / 3.0 * 27.0 * n * n * n + 18.0 * n * n;
+  const double sweeps_worth_newton = settings.auto_newton_iterations * newton_cost / sweep_cost;
+  constexpr int kWindow = 5;
+  double window_residual[kWindow] = {};
+  int window_sweeps[kWindow] = {};
+  int n_chunks = 0;
+  SolverResult gs;
+  int sweeps = 0;
+  SwitchReason reason = SwitchReason::none;
+  double rate = 0.0;
+  if (!(before <= settings.tolerance)) {
+    while (true) {
+      chunk.max_iterations =
+          std::min(settings.auto_check_interval, settings.max_iterations - sweeps);
+      history.offset = sweeps;
+      gs = gauss_seidel_.solve(problem, chunk, p, products, start, history);
+      start = StartProducts::build;
+      chunk.warm_start = false; // CompliantPatch::warm_product is of the first start only
+      sweeps += gs.iterations;
+      if (gs.status == SolverStatus::converged)
+        break;
+      if (gs.status == SolverStatus::non_finite || !p.head(n3).allFinite()) {
+        reason = SwitchReason::failed;
+        p.head(n3).setZero();
+        break;
+      }
+      // The rate over the last kWindow intervals (GS's residual is not monotone).
+      const double after = gs.residual;
+      window_residual[n_chunks % kWindow] = before;
+      window_sweeps[n_chunks % kWindow] = sweeps - gs.iterations;
+      ++n_chunks;
+      const int oldest = n_chunks < kWindow ? 0 : n_chunks % kWindow;
+      const int span = sweeps - window_sweeps[oldest];
+      rate = span > 0 ? std::pow(after / window_residual[oldest], 1.0 / span) : 1.0;
+      if (!(rate < 1.0)) {
+        reason = SwitchReason::stalled;
+        break;
+      }
+      const double predicted = std::log(settings.tolerance / after) / std::log(rate);
+      if (predicted > settings.auto_switch_sweeps && predicted > sweeps_worth_newton) {
+        reason = SwitchReason::slow;
+        break;
+      }
+      if (sweeps >= settings.max_iterations) {
+        reason = SwitchReason::budget;
+        break;
+      }
+      before = after;
+    }
+  } else {
+    gs.status = SolverStatus::converged;
+    gs.residual = before;
+  }
+  history.offset = 0;
+  if (reason == SwitchReason::none) {
+    gs.iterations = sweeps;
+    gs.finished_by = ContactSolverType::gauss_seidel;
+    return gs;
+  }
+  history.offset = sweeps;
+  SolverResult result =
+      newton_.solve(problem, settings, p, products, StartProducts::build, history);
+  history.offset = 0;
+  result.finished_by = ContactSolverType::newton;
+  result.switch_reason = reason;
+  result.switch_iteration = sweeps;
+  result.switch_rate = rate;
+  result.n_local_solves = gs.n_local_solves;
+  result.iterations += sweeps;
+  return result;
+}
+
+} // namespace plantar::contact

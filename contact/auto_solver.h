@@ -1,0 +1,41 @@
+#pragma once
+// The automatic choice (ContactSolverType::automatic): Gauss-Seidel from the warm start, its
+// rate measured every settings.auto_check_interval sweeps over the last five intervals (GS's
+// residual is not monotone) as
+//   rate = (r_end / r_start)^(1 / sweeps)   (residual ratio per sweep over the window);
+// GS goes on while rate < 1 ("stalled" otherwise) and the predicted further sweeps s = log(tol /
+// r_end) / log(rate) are at most settings.auto_switch_sweeps or cost less than
+// settings.auto_newton_iterations Newton iterations, by operation counts:
+//   sweep  ~ 2 nnz(W rows) + 200 n     (general W: its entries; G G^T + patches: 12 n m +
+//                                       18 sum_j n_j^2),
+//   Newton ~ (2/3) (3n)^3 + 2 (3n)^2   (dense LU, all contacts active: an upper bound).
+// Otherwise (or at max_iterations sweeps, or on non-finite values) semismooth Newton takes over
+// from GS's iterate with its own budget of max_iterations. The result says which solver
+// finished, why and when it switched (SolverResult::finished_by, switch_reason,
+// switch_iteration, switch_rate); iterations counts GS sweeps plus Newton iterations.
+//
+// It runs the facade's own GaussSeidelSolver and SemismoothNewtonSolver (no workspace of its
+// own); solve() allocates nothing.
+
+#include "contact/gauss_seidel_solver.h"
+#include "contact/iterative_solver.h"
+#include "contact/semismooth_newton_solver.h"
+
+namespace plantar::contact {
+
+class AutoSolver final : public IterativeSolver {
+public:
+  /// @p gauss_seidel and @p newton must outlive this and be resized with it.
+  AutoSolver(GaussSeidelSolver& gauss_seidel, SemismoothNewtonSolver& newton)
+      : gauss_seidel_(gauss_seidel), newton_(newton) {}
+  void resize(int /*max_contacts*/, int /*rigid_rank*/) override {}
+  SolverResult solve(const ContactProblem& problem, const SolverSettings& settings,
+                     Eigen::Ref<Eigen::VectorXd> impulses, DelassusProducts& products,
+                     StartProducts start, ResidualHistory& history) override;
+
+private:
+  GaussSeidelSolver& gauss_seidel_;
+  SemismoothNewtonSolver& newton_;
+};
+
+} // namespace plantar::contact
