@@ -94,6 +94,7 @@ struct ViscoelasticCondensation::Impl {
       ap[r + 1] = static_cast<SuiteSparse_long>(ai.size());
     }
     umfpack_dl_defaults(control);
+    control[UMFPACK_IRSTEP] = 0; // no iterative refinement: K_eff is SPD, the LU backward stable
     void* symbolic = nullptr;
     SuiteSparse_long status =
         umfpack_dl_symbolic(n, n, ap.data(), ai.data(), ax.data(), &symbolic, control, info);
