@@ -37,6 +37,8 @@ public:
                   const fem::ViscoelasticCondensationParameters& parameters,
                   const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation);
   ~ViscoelasticPad();
+  ViscoelasticPad(const ViscoelasticPad&) = delete; // the sole references the members
+  ViscoelasticPad& operator=(const ViscoelasticPad&) = delete;
 
   int n_contacts() const { return static_cast<int>(positions_.cols()); }
   /// Contact node positions in the body frame (3 x n, m).

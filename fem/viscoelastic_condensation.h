@@ -55,9 +55,9 @@ struct ViscoelasticTimings {
 
 class ViscoelasticCondensation {
 public:
-  /// Builds the problem on @p triangulation (referenced: must outlive this object) with
-  /// @p discretization and @p materials (both copied or referenced: they must outlive it
-  /// too), assembles K_eff(dt), factorizes and condenses it. State: at rest (u = 0, h = 0).
+  /// Builds the problem on @p triangulation with @p discretization and @p materials (all three
+  /// referenced: they must outlive this object), assembles K_eff(dt), factorizes and condenses
+  /// it. State: at rest (u = 0, h = 0).
   /// @throws std::invalid_argument on parameters, a boundary id without faces, or a contact
   ///   node on the attached face; std::runtime_error if K_eff is singular.
   ViscoelasticCondensation(const dealii::Triangulation<3>& triangulation,

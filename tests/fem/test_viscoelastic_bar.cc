@@ -161,6 +161,27 @@ TEST(ViscoelasticBar, CreepStepsNearTauAreBoundedAndStepsBeyondTauReachTheLongTe
   }
 }
 
+TEST(ViscoelasticBar, HardCasesCreepStaysBetweenTheInstantaneousAndLongTermCompliances) {
+  // tau from 10 us to 10 s in one series, dt from 0.1 to 10 ms (dt/tau from 1e-5 to 1e3):
+  // under a held stress the strain rises monotonically from ~1/E_0 towards 1/E_inf and never
+  // leaves [1/E_0, 1/E_inf] (unconditional stability of the recursive update).
+  const UniaxialProny prony{1e6,
+                            {{2e6, 1e-5}, {1e6, 1e-3}, {1e6, 1e-1}, {0.5e6, 1.0}, {0.5e6, 10.0}}};
+  for (const double dt : {1e-4, 1e-3, 1e-2}) {
+    Bar bar(prony, dt, 1);
+    const double stress = 1e4, lower = 1 / prony.instantaneous(), upper = 1 / prony.long_term;
+    double previous = 0;
+    for (int k = 0; k < 300; ++k) {
+      const double compliance = bar.step_force(stress * bar.area()) / stress;
+      SCOPED_TRACE(::testing::Message() << "dt " << dt << ", step " << k);
+      EXPECT_GE(compliance, lower * (1 - 1e-12));
+      EXPECT_LE(compliance, upper * (1 + 1e-12));
+      EXPECT_GE(compliance, previous * (1 - 1e-12));
+      previous = compliance;
+    }
+  }
+}
+
 // DMA: eps(t) = eps0 sin(w t) at 0.1 Hz .. 1 kHz, N steps per period, run until the transient
 // (e^{-t/tau_max}) is below 1e-6, then the last period's Fourier coefficients:
 //   E' = (2 / (N eps0)) sum sigma_k sin(w t_k),  E'' = (2 / (N eps0)) sum sigma_k cos(w t_k),
