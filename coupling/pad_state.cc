@@ -69,6 +69,22 @@ void PadState::set_compliance(const Eigen::Ref<const Eigen::MatrixXd>& complianc
   }
 }
 
+void PadState::set_offset(const Eigen::Ref<const Eigen::VectorXd>& offset) {
+  if (offset.size() != compliance_.rows() || !offset.allFinite()) {
+    std::ostringstream msg;
+    msg << "PadState::set_offset: offset of size " << offset.size() << " (expected "
+        << compliance_.rows() << ", finite)";
+    throw std::invalid_argument(msg.str());
+  }
+  if (damping_ > 0.0)
+    throw std::invalid_argument("PadState::set_offset: the pad is damped (set_damping): an "
+                                "offset d is not supported");
+  offset_ = offset;
+  has_offset_ = true;
+  for (int k = 0; k < n_nodes(); ++k)
+    offset_contact_.segment<3>(3 * k).noalias() = rotation_ * offset_.segment<3>(3 * k);
+}
+
 void PadState::set_damping(double beta) {
   if (!(beta >= 0.0) || !std::isfinite(beta)) {
     std::ostringstream msg;

@@ -35,6 +35,14 @@ public:
   /// damped pad.
   void set_compliance(const Eigen::Ref<const Eigen::MatrixXd>& compliance,
                       const Eigen::Ref<const Eigen::VectorXd>& offset);
+  /// Sets the offset d alone (3 n, m, body frame), keeping C: U = C F + d, e.g. the history
+  /// displacement of a viscoelastic pad (coupling/viscoelastic_pad.h), renewed every step.
+  /// Between steps; O(n), does not allocate. Throws std::invalid_argument on a size or a
+  /// non-finite value, or on a damped pad.
+  void set_offset(const Eigen::Ref<const Eigen::VectorXd>& offset);
+  /// a = R_c^T R_body of the last activate() (contact frame <- body frame): the frame of
+  /// force() and displacement() (node_force(k) = a F_body(k)).
+  const Eigen::Matrix3d& rotation() const { return rotation_; }
   /// Kelvin-Voigt damping time beta (s, >= 0, finite) of a stiffness-proportional pad damping
   /// D = beta K, which the static condensation keeps exactly; loss factor beta omega. Between
   /// steps; does not allocate. Throws std::invalid_argument on beta or on a pad with an offset.

@@ -77,8 +77,10 @@ MaterialTable::MaterialTable(const std::map<std::string, MaterialSpec>& specs,
       throw std::invalid_argument("material region '" + name + "' is not a physical volume of '" +
                                   groups.file.string() + "'");
     if (spec.law != "linear")
-      throw std::invalid_argument("material '" + name + "': law '" + spec.law +
-                                  "' is not available to the linear solver (allowed: linear)");
+      throw std::invalid_argument(
+          "material '" + name + "': law '" + spec.law +
+          "' is not available to the linear solver (allowed: linear; law prony, "
+          "viscoelastic, needs fem::ViscoelasticCondensation)");
     for (const auto& [key, value] : spec.values)
       if (key != "E" && key != "nu")
         throw std::invalid_argument("material '" + name + "': unknown parameter '" + key +

@@ -1,0 +1,150 @@
+#pragma once
+// A linear viscoelastic (generalized Maxwell, fem/viscoelastic_material.h) sole condensed onto
+// its contact nodes, exactly, at a fixed time step dt.
+//
+// Per step the recursive update gives sigma^{n+1} = C_eff : eps^{n+1} + s^n per quadrature point
+// (s^n the history stress, known before the step), so the discrete equilibrium is
+//
+//   K_eff u^{n+1} = P f^{n+1} - f_h^n,   K_eff = int B^T C_eff B,   f_h^n = int B^T s^n,
+//
+// with K_eff constant (dt fixed; regions relaxing differently included) and P f the contact
+// node forces. Condensed onto the contact dofs c (node-major, fem/contact_condensation.h):
+//
+//   u_c^{n+1} = C_eff f^{n+1} + d^n,   C_eff = [K_eff^-1]_cc,   d^n = -[K_eff^-1 f_h^n]_c,
+//
+// no approximation. C_eff is condensed once (unit-load solves with one sparse LU of K_eff,
+// UMFPACK); d^n, the history displacement, is one back-substitution per step with the same
+// factorization. advance(f) solves the full field for the step's forces, updates the internal
+// variables per quadrature point, assembles f_h and computes d for the next step. Attached
+// nodes are clamped (u = 0); no body force. Heap allocation happens only in the constructor.
+
+#include "fem/discretization.h"
+#include "fem/viscoelastic_material.h"
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/grid/tria.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/vector.h>
+
+#include <array>
+#include <map>
+#include <memory>
+#include <vector>
+
+namespace plantar::fem {
+
+struct ViscoelasticCondensationParameters {
+  dealii::types::boundary_id attached_boundary = 0; ///< clamped face (u = 0)
+  dealii::types::boundary_id contact_boundary = 1;  ///< its nodes are the contact nodes
+  double time_step = 1e-3;                          ///< dt (s), > 0, fixed
+  unsigned int block_size = 64; ///< right-hand sides per condensation block, [1, 4096]
+  /// Throws std::invalid_argument naming the field, its value and the range.
+  void validate() const;
+};
+
+/// Wall-clock seconds of the last advance() and of the set-up.
+struct ViscoelasticTimings {
+  double assembly = 0;      ///< set-up: dofs, K_eff
+  double factorization = 0; ///< set-up: LU of K_eff
+  double condensation = 0;  ///< set-up: the 3 n_c unit-load solves
+  double field_solve = 0;   ///< last step: K_eff u = P f - f_h (one back-substitution)
+  double history = 0;       ///< last step: internal variables, f_h, d (cell loop + one solve)
+};
+
+class ViscoelasticCondensation {
+public:
+  /// Builds the problem on @p triangulation with @p discretization and @p materials (all three
+  /// referenced: they must outlive this object), assembles K_eff(dt), factorizes and condenses
+  /// it. State: at rest (u = 0, h = 0).
+  /// @throws std::invalid_argument on parameters, a boundary id without faces, or a contact
+  ///   node on the attached face; std::runtime_error if K_eff is singular.
+  ViscoelasticCondensation(const dealii::Triangulation<3>& triangulation,
+                           const Discretization& discretization,
+                           const ViscoelasticMaterialTable& materials,
+                           const ViscoelasticCondensationParameters& parameters);
+  ~ViscoelasticCondensation();
+  ViscoelasticCondensation(const ViscoelasticCondensation&) = delete;
+  ViscoelasticCondensation& operator=(const ViscoelasticCondensation&) = delete;
+
+  unsigned int n_contacts() const { return static_cast<unsigned int>(contact_dofs_.size()); }
+  unsigned int n_dofs() const;
+  /// Contact node positions (m, mesh frame), node k at entry k.
+  const std::vector<dealii::Point<3>>& contact_positions() const { return contact_positions_; }
+  /// Global dofs (x, y, z) of contact node k.
+  const std::vector<std::array<dealii::types::global_dof_index, 3>>& contact_dofs() const {
+    return contact_dofs_;
+  }
+
+  /// C_eff = [K_eff(dt)^-1]_cc: (3 n_c)^2 doubles, row-major (symmetric), m/N, mesh frame,
+  /// node-major. Constant.
+  const std::vector<double>& effective_compliance() const { return compliance_; }
+  /// max |C - C^T| / max |C| before symmetrization.
+  double raw_asymmetry() const { return raw_asymmetry_; }
+
+  /// d^n (3 n_c, m): the contact-node displacement at the end of the next step if the contact
+  /// forces of that step were zero: u_c^{n+1} = C_eff f^{n+1} + d^n.
+  const dealii::Vector<double>& history_displacement() const { return history_displacement_; }
+
+  /// One step t_n -> t_n + dt under the contact forces @p contact_forces (3 n_c, N, mesh frame,
+  /// node-major, at t_{n+1}): solves K_eff u^{n+1} = P f - f_h^n, updates h_i at every
+  /// quadrature point (the recursive update above), assembles f_h^{n+1} and d^{n+1}.
+  /// No heap allocation. Throws std::invalid_argument on a size mismatch.
+  void advance(const dealii::Vector<double>& contact_forces);
+  /// Back to rest: u = 0, h = 0, d = 0, t = 0.
+  void reset();
+
+  /// u^{n} on the contact dofs (3 n_c, m) after the last advance().
+  const dealii::Vector<double>& contact_displacement() const { return contact_displacement_; }
+  /// The full field u^{n} (n_dofs, deal.II dof order, m).
+  const dealii::Vector<double>& solution() const { return solution_; }
+  double time() const { return time_; }                      ///< t_n, s
+  double time_step() const { return parameters_.time_step; } ///< dt, s
+  const dealii::DoFHandler<3>& dof_handler() const { return dof_handler_; }
+  const dealii::AffineConstraints<double>& constraints() const { return constraints_; }
+  const ViscoelasticTimings& timings() const { return timings_; }
+  /// Number of internal-variable tensors h_i stored (cells x quadrature points x branches).
+  std::size_t n_internal_variables() const { return history_.size(); }
+
+  /// Volume average of the strain at t_n (homogeneous-strain tests).
+  dealii::SymmetricTensor<2, 3> mean_strain() const;
+
+private:
+  struct Impl; // UMFPACK LU of K_eff, FEValues and the step's workspace
+  // Per material id: the step's constants.
+  struct RegionStep {
+    dealii::SymmetricTensor<4, 3> effective;       // C_eff, Pa
+    std::vector<double> shear, bulk, decay, gamma; // G_i, K_i (Pa), e_i, gamma_i per branch
+  };
+
+  void assemble_effective_stiffness();
+  void store_geometry();
+  void update_history();
+
+  const dealii::Triangulation<3>& triangulation_;
+  const Discretization& discretization_;
+  const ViscoelasticMaterialTable& materials_;
+  ViscoelasticCondensationParameters parameters_;
+  dealii::DoFHandler<3> dof_handler_;
+  dealii::AffineConstraints<double> constraints_;
+  std::unique_ptr<Impl> impl_;
+
+  std::map<dealii::types::material_id, RegionStep> regions_;
+  std::vector<const RegionStep*> cell_region_;         // by active cell index
+  std::vector<std::size_t> cell_history_;              // first h of each active cell in history_
+  std::vector<dealii::SymmetricTensor<2, 3>> history_; // h_i per (cell, q, branch), Pa
+  std::vector<dealii::SymmetricTensor<2, 3>> strain_;  // eps^n per (cell, q)
+
+  std::vector<std::array<dealii::types::global_dof_index, 3>> contact_dofs_;
+  std::vector<dealii::Point<3>> contact_positions_;
+  std::vector<double> compliance_;
+  double raw_asymmetry_ = 0;
+
+  dealii::Vector<double> solution_, rhs_, history_force_, history_solution_;
+  dealii::Vector<double> history_displacement_, contact_displacement_;
+  double time_ = 0;
+  ViscoelasticTimings timings_;
+};
+
+} // namespace plantar::fem
