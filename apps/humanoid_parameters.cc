@@ -81,7 +81,9 @@ const ChoiceTable<SoleModel> sole_models{{SoleModel::linear, "linear"},
                                          {SoleModel::hyperelastic, "hyperelastic"}};
 const ChoiceTable<contact::ContactSolverType> contact_solvers{
     {contact::ContactSolverType::admm, "admm"},
-    {contact::ContactSolverType::gauss_seidel, "gauss-seidel"}};
+    {contact::ContactSolverType::gauss_seidel, "gauss-seidel"},
+    {contact::ContactSolverType::newton, "newton"},
+    {contact::ContactSolverType::automatic, "auto"}};
 const ChoiceTable<walking::LegIkMethod> leg_ik_methods{
     {walking::LegIkMethod::automatic, "automatic"}, {walking::LegIkMethod::numerical, "numerical"}};
 
@@ -252,7 +254,9 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Position correction", "0.2", Double(0, 1),
                     "Fraction of a penetration removed per step, (0, 1].");
   prm.declare_entry("Solver", choice_name(contact_solvers, ContactParameters().solver),
-                    choice_pattern(contact_solvers), "Contact solver (coupling/contact).");
+                    choice_pattern(contact_solvers),
+                    "Contact solver (contact/, docs/contact_solvers.md): auto (Gauss-Seidel, "
+                    "then semismooth Newton when it stalls), gauss-seidel, newton, admm.");
   prm.declare_entry("Tolerance", "1e-8", Double(0),
                     "Natural-map residual (m/s) at which a contact solve has converged, > 0.");
   prm.declare_entry("Max iterations", "500", Integer(1), "Solver iterations per step.");

@@ -65,10 +65,11 @@ struct ContactParameters {
   double friction = 0.8;            ///< Coulomb mu, [0, 10]
   double restitution = 0.0;         ///< Newton e, [0, 1]
   double position_correction = 0.2; ///< fraction of a penetration removed per step, (0, 1]
-  contact::ContactSolverType solver = contact::ContactSolverType::admm;
-  double tolerance = 1e-8;        ///< m/s, natural-map residual, > 0
-  int max_iterations = 500;       ///< >= 1
-  bool sticking_direct = true;    ///< direct solve when every contact sticks
+  contact::ContactSolverType solver =
+      contact::ContactSolverType::automatic; ///< docs/contact_solvers.md
+  double tolerance = 1e-8;                   ///< m/s, natural-map residual, > 0
+  int max_iterations = 500;                  ///< >= 1
+  bool sticking_direct = true;               ///< direct solve when every contact sticks
   double sweep_skip = 0.0;        ///< Gauss-Seidel: skip contacts within this x tolerance
   double failure_residual = 1e-4; ///< m/s: an unconverged solve above this stops the run
   static void declare(dealii::ParameterHandler& prm);
