@@ -13,6 +13,10 @@
 // -U_c^{t-dt}/dt (all three components) is added to free_velocity.
 // U_c^{t-dt} is the previous step's node displacement in the current contact
 // frames (zero for a node that was not in contact: the sole is massless).
+// These functions are the theta = 1 case. The multibody stepper's pads
+// (coupling/pad_state.cc) use the Moreau-Jean theta method: their block is
+// a C / (theta dt)^2 with a = theta / (beta / dt + theta) (a = 1 for an
+// undamped pad, beta the Kelvin-Voigt damping time).
 
 #include "contact/contact_problem.h"
 

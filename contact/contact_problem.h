@@ -15,7 +15,8 @@
 //               in the patch's frame (CompliantPatch::rotation). The paper's
 //               eq. 12 is written for forces F: (W_F + C/dt) F with
 //               W_F = dt J M^-1 J^T. With impulses p = F dt the same block is
-//               C/dt^2 (see docs/contact.md and compliance_terms.h).
+//               C/dt^2 (theta = 1; the stepper's theta method fills a C/(theta dt)^2:
+//               coupling/pad_state.cc, compliance_terms.h).
 //   W_gen     : optional general matrix (general_delassus.h; empty for the robot), for
 //               problems given as (W, q, mu), e.g. third-party ones.
 //
