@@ -1,5 +1,6 @@
 #include "apps/humanoid_job.h"
 
+#include "apps/output_directory.h"
 #include "apps/progress.h"
 #include "apps/scene_vtk_writer.h"
 #include "fem/atomic_file.h"
@@ -97,7 +98,7 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
 }
 
 int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
-                   const std::filesystem::path& output) {
+                   const std::filesystem::path& output, bool figures) {
   std::ostringstream all, failures;
   all << "comparison: " << scene_file.string() << " (" << to_string(scene.type) << "), "
       << scene.robot.foot_forms.size() << " foot forms\n";
@@ -106,10 +107,7 @@ int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
     one.robot.foot_form = form;
     one.robot.foot_forms.clear();
     const std::filesystem::path dir = output / form_directory(form);
-    std::error_code ignored;
-    for (const char* stale : {"summary.txt", "summary.csv", "failure.txt"})
-      std::filesystem::remove(dir / stale, ignored);
-    std::filesystem::remove_all(dir / "failed", ignored);
+    prepare_output_directory(dir);
     // The form's full parameter set.
     dealii::ParameterHandler prm;
     read_scene_file(scene_file, prm);
@@ -141,7 +139,7 @@ int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
   if (failed)
     all << "failed foot forms:\n" << failures.str();
   fem::write_file_atomically(output / "summary.txt", [&](std::ostream& os) { os << all.str(); });
-  const int plot_status = plot_directory(output);
+  const int plot_status = figures ? plot_directory(output) : 0;
   if (failed)
     std::cerr << "plantar run: " << scene_file.string() << ": foot forms failed:\n"
               << failures.str();

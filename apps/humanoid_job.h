@@ -20,10 +20,10 @@ HumanoidSummary run_humanoid(const Scene& scene, const std::filesystem::path& ou
 /// The comparison of foot forms (Robot/Foot forms non-empty): runs @p scene once per form
 /// into output/<form_directory>/ (parameters.prm, summary.txt, summary.csv, CSV; a failed
 /// form: failure.txt and its CSV up to the failure in failed/), prints each summary, writes
-/// output/summary.txt and the figures (plot_directory). Returns 0 if every form ran to its
-/// end, 1 otherwise (the failed forms listed with their messages).
+/// output/summary.txt and, if @p figures, the figures (plot_directory). Returns 0 if every
+/// form ran to its end, 1 otherwise (the failed forms listed with their messages).
 int run_comparison(const std::filesystem::path& scene_file, const Scene& scene,
-                   const std::filesystem::path& output);
+                   const std::filesystem::path& output, bool figures = true);
 
 /// Directory name of a foot form in a comparison: rigid, compliant_ankle, fem_sole.
 std::string form_directory(FootForm form);

@@ -5,6 +5,7 @@
 //   plantar print-parameters                 every scene parameter with default, range, help
 //   plantar --help | <command> --help
 #include "apps/humanoid_job.h"
+#include "apps/output_directory.h"
 #include "apps/parameter_listing.h"
 #include "apps/scene.h"
 #include "apps/static_sole_job.h"
@@ -60,8 +61,9 @@ is reported with its message, its CSV up to the failure (DIR/<form>/failed/)
 is plotted, the other forms still run, and the exit status is 1.
 A progress bar (simulated time, real-time factor) is drawn on stderr when
 stdout and stderr are terminals.
-Files are written to a temporary name and renamed, so a failed run leaves no
-half-written output. Exit status: 0 on success, 1 on error, 2 on bad usage.
+Files are written to a temporary name and renamed, so a failed or killed run
+leaves no half-written output; a run first removes from DIR what an earlier run
+left (summaries, failed/, vtk/, *.pvd, temporary files). Exit status: 0 on success, 1 on error, 2 on bad usage.
 )";
 
 const char* const sweep_help = R"(plantar sweep SCENE.prm [-o DIR] [-j N]
@@ -149,12 +151,13 @@ int run(const std::vector<std::string>& args) {
   dealii::ParameterHandler prm;
   const app::Scene scene = app::load_scene(scene_file, prm);
   const std::filesystem::path out = output_directory(scene_file, output);
+  app::prepare_output_directory(out);
 
   if (scene.type != app::SceneType::static_sole && !scene.robot.foot_forms.empty()) {
     fem::write_file_atomically(out / "parameters.prm", [&](std::ostream& os) {
       prm.print_parameters(os, dealii::ParameterHandler::PRM);
     });
-    const int status = app::run_comparison(scene_file, scene, out);
+    const int status = app::run_comparison(scene_file, scene, out, figures);
     std::cout << "outputs in " << out.string() << "\n";
     return status;
   }
