@@ -23,6 +23,10 @@ public:
             walking::JointReference& reference) override;
   /// The springs' deflection (compensated ankles), else leaves @p q.
   void set_state(bool at_end, Eigen::VectorXd& q) const override;
+  /// foot_stiffness: the ankle's linear spring (in series with rigid contacts).
+  void summarize(HumanoidSummary& summary) const override {
+    summary.foot_stiffness = robot_.ankle_linear_stiffness;
+  }
 
 private:
   RobotParameters robot_;

@@ -6,9 +6,31 @@
 #include "fem/field_output.h"
 #include "fem/material_table.h"
 
+#include <array>
+
 namespace plantar::app {
 
+namespace {
+constexpr const char* linear_sole_remedy =
+    "the linear (small-strain) sole is far outside its validity: use Sole/Model = hyperelastic "
+    "(large strains), a stiffer sole (E of Sole/Materials) or a gentler load (e.g. a smaller "
+    "Simulation/Release height)";
+} // namespace
+
 CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole.thickness) {
+  const SoleValidityParameters& validity = scene.sole_validity;
+  compression_limit_ = {"sole_compression",          "linear sole compression / thickness",
+                        "Sole/Compression warning",  "Sole/Max compression",
+                        ValidityLimit::Bound::upper, validity.compression_warning,
+                        validity.max_compression,    linear_sole_remedy};
+  strain_limit_ = {"sole_strain",
+                   "linear sole strain |u| / thickness",
+                   "Sole/Strain warning",
+                   "Sole/Max strain",
+                   ValidityLimit::Bound::upper,
+                   validity.strain_warning,
+                   validity.max_strain,
+                   linear_sole_remedy};
   dealii::Triangulation<3> tria;
   const auto groups = mesh_sole(scene.sole, tria);
   const auto specs = fem::parse_material_specs(scene.sole.materials, "Sole/Materials");
@@ -35,6 +57,18 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
 }
 
 CondensedSoleFoot::~CondensedSoleFoot() = default;
+
+void CondensedSoleFoot::check_validity(const multibody::Data& data,
+                                       ValidityMonitor& monitor) const {
+  // One value per quantity and step: the larger foot's (NaN wins).
+  std::array<double, 2> compression{}, displacement{};
+  for (int foot = 0; foot < 2; ++foot)
+    node_deformation(foot, data, compression[foot], displacement[foot]);
+  const auto larger = [](const std::array<double, 2>& v) { return v[1] > v[0] || v[1] != v[1]; };
+  const int c = larger(compression) ? 1 : 0, d = larger(displacement) ? 1 : 0;
+  monitor.check(compression_limit_, compression[c] / thickness_, c ? "left sole" : "right sole");
+  monitor.check(strain_limit_, displacement[d] / thickness_, d ? "left sole" : "right sole");
+}
 
 SolePatchFoot::SoleMesh CondensedSoleFoot::sole_mesh(int foot) const {
   (void)foot; // one sole for both feet

@@ -3,6 +3,9 @@
 // condensed onto its bottom nodes (coupling/condensed_sole.h, paper eq. 11), one compliant
 // patch per foot; with Sole/Reduced patches the reduced sole (coupling/reduced_sole.h: one
 // contact per patch of bottom nodes, no field output). The robot is lifted by Sole/Thickness.
+// Validity (small strains): each node's compression and displacement against the thickness,
+// Sole/Compression warning, Max compression, Strain warning, Max strain
+// (SoleValidityParameters; for the reduced sole the patches' averaged displacements).
 
 #include "apps/sole_patch_foot.h"
 
@@ -20,6 +23,8 @@ public:
   explicit CondensedSoleFoot(const Scene& scene);
   ~CondensedSoleFoot() override;
   double lift() const override { return thickness_; }
+  /// Compression and strain of each sole against its limits.
+  void check_validity(const multibody::Data& data, ValidityMonitor& monitor) const override;
   /// The full condensed sole has fields; the reduced one not.
   bool has_fields() const override { return sole_ != nullptr; }
   /// The condensed sole (both feet), or nullptr for the reduced sole.
@@ -35,6 +40,7 @@ protected:
 
 private:
   double thickness_ = 0;
+  ValidityLimit compression_limit_, strain_limit_;
   std::unique_ptr<coupling::CondensedSole> sole_;
   mutable Eigen::VectorXd area_; ///< node_areas, computed at the first call
 };

@@ -6,9 +6,10 @@
 // HumanoidSimulation calls, in this order: configure_model (before the model is built),
 // lift, plan (once the reference exists), max_contacts, attach (the stepper's contacts of
 // both feet), set_state (initial and planned final configurations); then after every step
-// update and report; output writers ask has_fields / write_fields.
+// update, check_validity and report; output writers ask has_fields / write_fields.
 
 #include "apps/humanoid_summary.h"
+#include "apps/validity_monitor.h"
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/spatial.h"
@@ -70,9 +71,16 @@ public:
   /// After a step (@p data: kinematics of the step's end). No heap allocation. Throws
   /// std::runtime_error naming the foot on failure.
   virtual void update(const multibody::Data& data) { (void)data; }
+  /// After update (@p data: kinematics of the step's end): reports each quantity that bounds
+  /// this form's validity to @p monitor (apps/validity_monitor.h: a warning past its warning
+  /// level, std::runtime_error naming the remedy past its failure level). No heap allocation
+  /// unless it throws. Default: nothing to watch (rigid feet, ankle springs).
+  virtual void check_validity(const multibody::Data& data, ValidityMonitor& monitor) const {
+    (void)data, (void)monitor;
+  }
   /// Contacts of foot @p foot (0 right, 1 left) after the step of @p dt (s). No heap allocation.
   virtual void report(int foot, const multibody::Data& data, double dt, FootReport& out) const = 0;
-  /// Fills this form's figures of @p summary (contact nodes, sole statistics).
+  /// Fills this form's figures of @p summary (contact nodes, sole statistics, foot_stiffness).
   virtual void summarize(HumanoidSummary& summary) const { (void)summary; }
   /// Whether write_fields writes anything (a field per sole).
   virtual bool has_fields() const { return false; }

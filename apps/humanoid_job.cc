@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <sys/wait.h>
@@ -89,10 +90,22 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << s.max_penetration * 1e3 << " mm\n"
       << "contact solver: " << s.n_solves << " solves, iterations mean "
       << (s.n_solves ? static_cast<double>(s.solver_iterations) / s.n_solves : 0.0) << " max "
-      << s.max_solver_iterations << ", " << s.n_unconverged << " unconverged, max residual "
-      << s.max_solver_residual << " m/s\n"
-      << "wall time: setup " << s.setup_wall_time << " s, loop " << s.loop_wall_time << " s ("
-      << s.cost() << " s per simulated second, "
+      << s.max_solver_iterations << ", " << s.n_unconverged << " unconverged"
+      << (s.n_unconverged ? " (each in unconverged_solves.csv)" : "") << ", max residual "
+      << s.max_solver_residual << " m/s\n";
+  const int n_switches =
+      s.n_switch_slow + s.n_switch_stalled + s.n_switch_budget + s.n_switch_failed;
+  if (n_switches > 0)
+    out << "contact solver auto: " << n_switches << " solves switched to Newton (slow "
+        << s.n_switch_slow << ", stalled " << s.n_switch_stalled << ", budget " << s.n_switch_budget
+        << ", failed " << s.n_switch_failed << ")\n";
+  for (int i = 0; i < s.validity.size(); ++i) {
+    const ValidityRecord& r = s.validity.record(i);
+    out << "validity: " << r.limit.quantity << " peak " << r.peak << " at t = " << r.peak_time
+        << " s (warning " << r.limit.warning << ", failure " << r.limit.failure << ")\n";
+  }
+  out << s.validity.warning_text() << "wall time: setup " << s.setup_wall_time << " s, loop "
+      << s.loop_wall_time << " s (" << s.cost() << " s per simulated second, "
       << (s.loop_wall_time > 0 ? s.n_steps / s.loop_wall_time : 0.0) << " steps per second)\n";
   return out.str();
 }
@@ -182,6 +195,12 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << (s.n_solves ? static_cast<double>(s.solver_iterations) / s.n_solves : 0.0) << "\n"
         << "max_solver_iterations," << s.max_solver_iterations << "\n"
         << "n_unconverged," << s.n_unconverged << "\n"
+        << "n_switch_slow," << s.n_switch_slow << "\n"
+        << "n_switch_stalled," << s.n_switch_stalled << "\n"
+        << "n_switch_budget," << s.n_switch_budget << "\n"
+        << "n_switch_failed," << s.n_switch_failed << "\n"
+        << "foot_stiffness," << s.foot_stiffness << "\n"
+        << "n_validity_warnings," << s.validity.n_warnings() << "\n"
         << "max_solver_residual," << s.max_solver_residual << "\n"
         << "max_penetration," << s.max_penetration << "\n"
         << "n_pads," << s.n_pads << "\n"
@@ -190,6 +209,13 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "final_pad_force_z," << s.final_pad_force.z() << "\n"
         << "setup_wall_time," << s.setup_wall_time << "\n"
         << "loop_wall_time," << s.loop_wall_time << "\n";
+    for (int i = 0; i < s.validity.size(); ++i) {
+      const ValidityRecord& r = s.validity.record(i);
+      out << r.limit.key << "_peak," << r.peak << "\n"
+          << r.limit.key << "_warning_steps," << r.n_warning_steps << "\n"
+          << r.limit.key << "_first_warning_time,"
+          << (r.warned() ? r.first_warning_time : std::numeric_limits<double>::quiet_NaN()) << "\n";
+    }
   });
 }
 

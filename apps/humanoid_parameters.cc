@@ -1,6 +1,7 @@
 #include "apps/humanoid_parameters.h"
 
 #include "apps/choice.h"
+#include "apps/contact_solver_name.h"
 #include "apps/number_list.h"
 #include "fem/sole_parameters.h"
 
@@ -77,6 +78,26 @@ walking::Footstep parse_one(const std::string& text, const std::string& paramete
   return steps[0];
 }
 
+/// Contact/Failure residual: a residual (m/s, > 0) or 'k x Tolerance' (k >= 1).
+double parse_failure_residual(const std::string& text, double tolerance) {
+  const std::string error = "Contact/Failure residual = '" + text +
+                            "': allowed a residual in m/s (> 0) or 'k x Tolerance' (k >= 1)";
+  const auto x = text.find_first_of("xX");
+  if (x == std::string::npos) {
+    const std::optional<double> value = to_number(text);
+    if (!value || !(*value > 0))
+      throw std::invalid_argument(error);
+    return *value;
+  }
+  std::string rest = text.substr(x + 1);
+  rest.erase(0, rest.find_first_not_of(" \t"));
+  rest.erase(rest.find_last_not_of(" \t") + 1);
+  const std::optional<double> factor = to_number(text.substr(0, x));
+  if (!factor || !(*factor >= 1) || (rest != "Tolerance" && rest != "tolerance"))
+    throw std::invalid_argument(error);
+  return *factor * tolerance;
+}
+
 const ChoiceTable<SoleModel> sole_models{{SoleModel::linear, "linear"},
                                          {SoleModel::hyperelastic, "hyperelastic"}};
 const ChoiceTable<contact::ContactSolverType> contact_solvers{
@@ -88,6 +109,10 @@ const ChoiceTable<walking::LegIkMethod> leg_ik_methods{
     {walking::LegIkMethod::automatic, "automatic"}, {walking::LegIkMethod::numerical, "numerical"}};
 
 } // namespace
+
+const char* contact_solver_name(contact::ContactSolverType solver) {
+  return choice_name(contact_solvers, solver);
+}
 
 SoleModel sole_model(const fem::SoleParameters& sole) {
   return parse_choice(sole_models, sole.model, "Sole/Model");
@@ -248,6 +273,47 @@ void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
                                 "': allowed 0 (full sole) or 'nx, ny' with integers in [1, 1000]");
 }
 
+void SoleValidityParameters::declare(dealii::ParameterHandler& prm) {
+  const SoleValidityParameters d;
+  prm.declare_entry("Compression warning", number_text(d.compression_warning), Double(0, 1),
+                    "Linear fem sole: a warning in the summary (first step, time, value, peak) "
+                    "when a contact node is compressed by more than this fraction of "
+                    "Sole/Thickness (u . n / t; small-strain theory), (0, 1].");
+  prm.declare_entry("Max compression", number_text(d.max_compression), Double(0, 1),
+                    "Linear fem sole: the run fails when a contact node is compressed by more "
+                    "than this fraction of Sole/Thickness (the linear model far outside its "
+                    "validity; the message names Sole/Model = hyperelastic), (0, 1].");
+  prm.declare_entry("Strain warning", number_text(d.strain_warning), Double(0),
+                    "Linear fem sole: a warning when a contact node's displacement exceeds this "
+                    "fraction of Sole/Thickness (|u| / t: the strain through the thickness, "
+                    "normal or shear), > 0.");
+  prm.declare_entry("Max strain", number_text(d.max_strain), Double(0),
+                    "Linear fem sole: the run fails when a contact node's displacement exceeds "
+                    "this fraction of Sole/Thickness, > 0.");
+  prm.declare_entry("Jacobian warning", number_text(d.jacobian_warning), Double(0, 1),
+                    "Hyperelastic fem sole: a warning when det F at a quadrature point falls "
+                    "below this (volume ratio), (0, 1).");
+  prm.declare_entry("Min jacobian", number_text(d.min_jacobian), Double(0, 1),
+                    "Hyperelastic fem sole: the run fails when det F at a quadrature point "
+                    "falls below this (an element nearly inverted), (0, 1).");
+}
+
+void SoleValidityParameters::parse(dealii::ParameterHandler& prm) {
+  compression_warning = prm.get_double("Compression warning");
+  max_compression = prm.get_double("Max compression");
+  strain_warning = prm.get_double("Strain warning");
+  max_strain = prm.get_double("Max strain");
+  jacobian_warning = prm.get_double("Jacobian warning");
+  min_jacobian = prm.get_double("Min jacobian");
+  require(compression_warning > 0, "Sole/Compression warning", compression_warning, "in (0, 1]");
+  require(max_compression > 0, "Sole/Max compression", max_compression, "in (0, 1]");
+  require(strain_warning > 0, "Sole/Strain warning", strain_warning, "> 0");
+  require(max_strain > 0, "Sole/Max strain", max_strain, "> 0");
+  require(jacobian_warning > 0 && jacobian_warning < 1, "Sole/Jacobian warning", jacobian_warning,
+          "in (0, 1)");
+  require(min_jacobian > 0 && min_jacobian < 1, "Sole/Min jacobian", min_jacobian, "in (0, 1)");
+}
+
 void ContactParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Friction coefficient", "0.8", Double(0, 10), "Coulomb mu, sole/ground.");
   prm.declare_entry("Restitution", "0", Double(0, 1), "Newton restitution e (paper eq. 5).");
@@ -271,9 +337,12 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
                     "fraction of the tolerance is left as it is for that sweep (no local "
                     "solve, no pass over its columns); convergence still needs every contact "
                     "within the tolerance. 0 updates every contact; [0, 1).");
-  prm.declare_entry("Failure residual", "1e-4", Double(0),
-                    "A solve that stops unconverged with a residual above this (m/s) stops the "
-                    "run with an error; below it the step is counted as unconverged.");
+  prm.declare_entry("Failure residual", number_text(default_failure_factor) + " x Tolerance",
+                    Anything(),
+                    "A solve that stops unconverged with a residual above this stops the run "
+                    "with an error suggesting what to change; below it the solve is counted "
+                    "and listed in unconverged_solves.csv. A residual in m/s (> 0) or 'k x "
+                    "Tolerance' (k >= 1).");
 }
 
 void ContactParameters::parse(dealii::ParameterHandler& prm) {
@@ -285,11 +354,10 @@ void ContactParameters::parse(dealii::ParameterHandler& prm) {
   max_iterations = prm.get_integer("Max iterations");
   sticking_direct = prm.get_bool("Sticking direct solve");
   sweep_skip = prm.get_double("Sweep skip fraction");
-  failure_residual = prm.get_double("Failure residual");
+  failure_residual = parse_failure_residual(prm.get("Failure residual"), tolerance);
   require(sweep_skip < 1, "Contact/Sweep skip fraction", sweep_skip, "in [0, 1)");
   require(position_correction > 0, "Contact/Position correction", position_correction, "in (0, 1]");
   require(tolerance > 0, "Contact/Tolerance", tolerance, "> 0");
-  require(failure_residual > 0, "Contact/Failure residual", failure_residual, "> 0");
 }
 
 void ControlParameters::declare(dealii::ParameterHandler& prm) {

@@ -60,6 +60,25 @@ struct SoleReductionParameters {
   void parse(dealii::ParameterHandler& prm);
 };
 
+/// Entries of subsection "Sole" read by the humanoid scenes only: the validity limits of the
+/// FEM sole (apps/validity_monitor.h, docs/reliability.md). Compressions and strains are
+/// fractions of Sole/Thickness t, per contact node k after every step:
+///   compression c_k = u_k . n / t  (u_k: the node's displacement, n: the sole's normal into
+///                                   the foot),
+///   strain      e_k = |u_k| / t    (the displacement gradient through the thickness, averaged
+///                                   over the node's column; normal strain or shear angle).
+/// The hyperelastic sole is watched through J = det F (min over its quadrature points).
+struct SoleValidityParameters {
+  double compression_warning = 0.1; ///< linear sole: warn past max_k c_k, (0, 1]
+  double max_compression = 0.5;     ///< linear sole: fail past max_k c_k, (0, 1]
+  double strain_warning = 0.1;      ///< linear sole: warn past max_k e_k, > 0
+  double max_strain = 1.0;          ///< linear sole: fail past max_k e_k, > 0
+  double jacobian_warning = 0.5;    ///< hyperelastic sole: warn below min J, (0, 1)
+  double min_jacobian = 0.1;        ///< hyperelastic sole: fail below min J, (0, 1)
+  static void declare(dealii::ParameterHandler& prm);
+  void parse(dealii::ParameterHandler& prm);
+};
+
 /// Subsection "Contact".
 struct ContactParameters {
   double friction = 0.8;            ///< Coulomb mu, [0, 10]
@@ -70,8 +89,12 @@ struct ContactParameters {
   double tolerance = 1e-8;                   ///< m/s, natural-map residual, > 0
   int max_iterations = 500;                  ///< >= 1
   bool sticking_direct = true;               ///< direct solve when every contact sticks
-  double sweep_skip = 0.0;        ///< Gauss-Seidel: skip contacts within this x tolerance
-  double failure_residual = 1e-4; ///< m/s: an unconverged solve above this stops the run
+  double sweep_skip = 0.0; ///< Gauss-Seidel: skip contacts within this x tolerance
+  /// Failure residual's default: this many tolerances (docs/reliability.md: why 10).
+  static constexpr double default_failure_factor = 10;
+  /// m/s: an unconverged solve above this stops the run; the scene gives a residual or
+  /// 'k x Tolerance' (k >= 1; default default_failure_factor).
+  double failure_residual = default_failure_factor * tolerance;
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };

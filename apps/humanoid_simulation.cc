@@ -1,6 +1,8 @@
 #include "apps/humanoid_simulation.h"
 
+#include "apps/contact_solver_name.h"
 #include "apps/scene_reference.h"
+#include "apps/solver_advice.h"
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
 #include "multibody/walking/walking_reference.h"
@@ -132,6 +134,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   foot_model_->attach(*stepper_, model_, sole_frames_, scene_.contact.friction);
   pads_->attach(*stepper_);
   foot_model_->summarize(summary_);
+  summary_.robot_mass = model_.total_mass();
   summary_.n_pads = pads_->size();
   summary_.n_pad_nodes = pads_->max_contacts();
 
@@ -176,6 +179,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     for (const char* suffix : {"_fx", "_fy", "_fz", "_compression"})
       contact_columns.push_back(pads_->pad(i).name() + suffix);
   contacts_ = TimeSeries(contact_columns, rows);
+  unconverged_ = UnconvergedSolves(n_steps_);
   summary_.time_step = dt;
   summary_.setup_wall_time = seconds_since(setup_start_);
 }
@@ -237,13 +241,28 @@ void HumanoidSimulation::step() {
     summary_.solver_iterations += report.solver.iterations;
     summary_.max_solver_iterations =
         std::max(summary_.max_solver_iterations, static_cast<int>(report.solver.iterations));
-    if (!report.solver.converged()) {
+    const contact::SolverResult& solve = report.solver;
+    summary_.n_switch_slow += solve.switch_reason == contact::SwitchReason::slow ? 1 : 0;
+    summary_.n_switch_stalled += solve.switch_reason == contact::SwitchReason::stalled ? 1 : 0;
+    summary_.n_switch_budget += solve.switch_reason == contact::SwitchReason::budget ? 1 : 0;
+    summary_.n_switch_failed += solve.switch_reason == contact::SwitchReason::failed ? 1 : 0;
+    if (!solve.converged()) {
       ++summary_.n_unconverged;
-      if (!(report.solver.residual <= scene_.contact.failure_residual)) {
+      unconverged_.add({step_, step_ * dt, solve.residual, report.n_contacts, solve.iterations,
+                        solve.status, solve.finished_by, solve.switch_reason,
+                        solve.switch_iteration});
+      if (!(solve.residual <= scene_.contact.failure_residual)) {
+        const ContactParameters& settings = scene_.contact;
         std::ostringstream msg;
-        msg << "contact solver " << contact::to_string(report.solver.status) << " after "
-            << report.solver.iterations << " iterations, residual " << report.solver.residual
-            << " m/s > Contact/Failure residual " << scene_.contact.failure_residual;
+        msg << "contact solver " << contact::to_string(solve.status) << " after "
+            << solve.iterations << " iterations (" << contact_solver_name(settings.solver);
+        if (solve.switch_reason != contact::SwitchReason::none)
+          msg << ": gauss-seidel " << contact::to_string(solve.switch_reason) << " after "
+              << solve.switch_iteration << " sweeps, then newton";
+        msg << "), residual " << solve.residual << " m/s > Contact/Failure residual "
+            << settings.failure_residual << " m/s, " << report.n_contacts << " contacts; "
+            << solver_advice({solve, settings.solver, settings.tolerance, settings.max_iterations,
+                              dt, summary_.foot_stiffness, summary_.robot_mass});
         fail(msg.str());
       }
     }
@@ -302,6 +321,8 @@ void HumanoidSimulation::step() {
   summary_.final_pad_force = pad_force;
   try {
     foot_model_->update(data_);
+    summary_.validity.set_step(step_, t);
+    foot_model_->check_validity(data_, summary_.validity);
   } catch (const std::exception& e) {
     fail(e.what());
   }
@@ -395,6 +416,7 @@ void HumanoidSimulation::write_csv(const std::filesystem::path& directory) const
   waist_.write_csv(directory / "waist.csv");
   joints_.write_csv(directory / "joints.csv");
   contacts_.write_csv(directory / "contacts.csv");
+  unconverged_.write_csv(directory / "unconverged_solves.csv");
 }
 
 } // namespace plantar::app

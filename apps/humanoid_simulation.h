@@ -12,9 +12,12 @@
 //   points x_k (world, after the step); ZMP = the same over both feet (flat ground z = 0);
 //   per pad (Pad 1 ... Pad 6, apps/pad_set.h): its force and compression (not in the ZMP).
 // Failures stop the run with std::runtime_error naming the step and time: non-finite state,
-// an unconverged contact solve with residual above Contact/Failure residual, a contact deeper
-// than Simulation/Max penetration, the waist below Simulation/Fall height, a pad compressed
-// beyond its Max compression.
+// an unconverged contact solve with residual above Contact/Failure residual (with what to
+// change: apps/solver_advice.h), a contact deeper than Simulation/Max penetration, the waist
+// below Simulation/Fall height, a pad compressed beyond its Max compression, a foot model past
+// a failure level of its validity (FootModel::check_validity, apps/validity_monitor.h; past a
+// warning level it is recorded in the summary). Every unconverged solve is listed
+// (unconverged_solves(), unconverged_solves.csv).
 // Everything is allocated by the constructor; step() allocates nothing.
 
 #include "apps/foot_model.h"
@@ -22,6 +25,7 @@
 #include "apps/pad_set.h"
 #include "apps/scene.h"
 #include "apps/time_series.h"
+#include "apps/unconverged_solves.h"
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/stepper.h"
@@ -62,7 +66,10 @@ public:
   const TimeSeries& waist_series() const { return waist_; }
   const TimeSeries& joint_series() const { return joints_; }
   const TimeSeries& contact_series() const { return contacts_; }
-  /// Writes waist.csv, joints.csv, contacts.csv into @p directory (atomically).
+  /// The contact solves that stopped above Contact/Tolerance, in step order.
+  const UnconvergedSolves& unconverged_solves() const { return unconverged_; }
+  /// Writes waist.csv, joints.csv, contacts.csv, unconverged_solves.csv into @p directory
+  /// (atomically).
   void write_csv(const std::filesystem::path& directory) const;
   const multibody::Model& model() const { return model_; }
   const Eigen::VectorXd& q() const { return q_; }
@@ -113,6 +120,7 @@ private:
   std::array<FootReport, 2> foot_reports_; ///< right, left: the last step's
   std::vector<PadReport> pad_reports_;     ///< per pad: the last step's
   TimeSeries waist_, joints_, contacts_;
+  UnconvergedSolves unconverged_;
   HumanoidSummary summary_;
 };
 

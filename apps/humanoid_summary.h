@@ -1,21 +1,31 @@
 #pragma once
 // The figures of a humanoid run (apps/humanoid_simulation.h), filled during the time loop.
 
+#include "apps/validity_monitor.h"
+
 #include <Eigen/Core>
 
 namespace plantar::app {
 
 /// Figures of a humanoid run (SI units; accelerations in m/s^2).
 struct HumanoidSummary {
-  int n_steps = 0;                     ///< steps done
-  double time_step = 0;                ///< s
-  double simulated_time = 0;           ///< s
-  double setup_wall_time = 0;          ///< s: reference, model, sole condensation
-  double loop_wall_time = 0;           ///< s: the time loop
-  int n_sole_nodes = 0;                ///< fem sole: contact nodes per foot
-  double sole_thickness = 0;           ///< m, the foot model's lift (FootModel::lift)
-  int max_active_contacts = 0;         ///< most contact points in one step
-  int n_unconverged = 0;               ///< contact solves stopped above the tolerance
+  int n_steps = 0;            ///< steps done
+  double time_step = 0;       ///< s
+  double simulated_time = 0;  ///< s
+  double setup_wall_time = 0; ///< s: reference, model, sole condensation
+  double loop_wall_time = 0;  ///< s: the time loop
+  int n_sole_nodes = 0;       ///< fem sole: contact nodes per foot
+  double sole_thickness = 0;  ///< m, the foot model's lift (FootModel::lift)
+  /// N/m: vertical stiffness of one foot's contact, pressed down uniformly (FEM sole:
+  /// 1^T C_zz^-1 1 of its condensed compliance; compliant ankle: its linear spring); 0: rigid.
+  double foot_stiffness = 0;
+  double robot_mass = 0;       ///< kg
+  int max_active_contacts = 0; ///< most contact points in one step
+  int n_unconverged = 0;       ///< contact solves stopped above the tolerance (listed in
+                               ///< unconverged_solves.csv)
+  /// Contact/Solver = auto: solves that switched from Gauss-Seidel to Newton, per reason
+  /// (contact::SwitchReason slow, stalled, budget, failed).
+  int n_switch_slow = 0, n_switch_stalled = 0, n_switch_budget = 0, n_switch_failed = 0;
   double max_solver_residual = 0;      ///< m/s, over all solves
   int n_solves = 0;                    ///< contact solves (steps with active contacts)
   int n_direct_solves = 0;             ///< of which solved directly (every contact sticking)
@@ -50,6 +60,8 @@ struct HumanoidSummary {
   int sole_recondensations = 0;    ///< tangent re-condensations
   double sole_tolerated_error = 0; ///< largest prediction error accepted without re-condensing
   double sole_recondensation_tolerance = 0; ///< the scene's tolerance (0: linear sole)
+  /// The validity guards of the models (apps/validity_monitor.h): their warnings and peaks.
+  ValidityMonitor validity;
   /// Wall seconds of the loop per simulated second.
   double cost() const { return simulated_time > 0 ? loop_wall_time / simulated_time : 0; }
 };

@@ -92,6 +92,16 @@ consistent_areas(const dealii::DoFHandler<3>& dof_handler,
 } // namespace
 
 HyperelasticSoleFoot::HyperelasticSoleFoot(const Scene& scene) : thickness_(scene.sole.thickness) {
+  jacobian_limit_ = {"sole_min_jacobian",
+                     "hyperelastic sole min det F",
+                     "Sole/Jacobian warning",
+                     "Sole/Min jacobian",
+                     ValidityLimit::Bound::lower,
+                     scene.sole_validity.jacobian_warning,
+                     scene.sole_validity.min_jacobian,
+                     "elements nearly inverted: use a smaller Simulation/Time step, a finer mesh "
+                     "(Sole/Mesh size) or Sole/Formulation = mixed (nearly incompressible "
+                     "rubber), or a stiffer sole"};
   if (scene.sole_reduction.reduced())
     throw std::invalid_argument("Sole/Model = hyperelastic cannot be combined with a reduced "
                                 "sole (Sole reduction): use one or the other");
@@ -136,7 +146,10 @@ void HyperelasticSoleFoot::update(const multibody::Data& data) {
       report = sole.update(forces_);
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string(foot == 0 ? "right" : "left") +
-                               " hyperelastic sole: " + e.what());
+                               " hyperelastic sole: " + e.what() +
+                               ": use a smaller Simulation/Time step (smaller force changes per "
+                               "step), a finer mesh (Sole/Mesh size) or Sole/Formulation = mixed "
+                               "(nearly incompressible rubber)");
     }
     if (report.recondensed) {
       // Body frame: R C R^T per 3x3 block and R d per node, R = sole -> body rotation.
@@ -151,6 +164,15 @@ void HyperelasticSoleFoot::update(const multibody::Data& data) {
       set_patch_compliance(foot, compliance_, offset_);
     }
   }
+}
+
+void HyperelasticSoleFoot::check_validity(const multibody::Data& data,
+                                          ValidityMonitor& monitor) const {
+  (void)data;
+  const double j_right = soles_[0]->sole().elasticity().min_jacobian();
+  const double j_left = soles_[1]->sole().elasticity().min_jacobian();
+  const bool left = j_left < j_right || j_left != j_left;
+  monitor.check(jacobian_limit_, left ? j_left : j_right, left ? "left sole" : "right sole");
 }
 
 void HyperelasticSoleFoot::summarize(HumanoidSummary& summary) const {

@@ -3,7 +3,9 @@
 // (coupling/nonlinear_condensed_sole.h, laws of Sole/Materials), its tangent condensed onto
 // the bottom nodes as the foot's compliant patch and re-condensed after the steps whose
 // contact forces moved the prediction beyond Sole/Recondensation tolerance. The robot is
-// lifted by Sole/Thickness.
+// lifted by Sole/Thickness. Validity: J = det F (min over the quadrature points of both soles
+// at their last Newton solve) against Sole/Jacobian warning and Min jacobian; a Newton solve
+// that fails stops the run naming the remedies (smaller dt, finer mesh, mixed formulation).
 
 #include "apps/sole_patch_foot.h"
 
@@ -23,8 +25,11 @@ public:
   ~HyperelasticSoleFoot() override;
   double lift() const override { return thickness_; }
   /// Contact forces -> each sole; re-condensed tangents -> the stepper. Throws
-  /// std::runtime_error "<foot> hyperelastic sole: ..." if a sole's Newton solve fails.
+  /// std::runtime_error "<foot> hyperelastic sole: ..." with the remedies if a sole's Newton
+  /// solve fails.
   void update(const multibody::Data& data) override;
+  /// min J of both soles against its limits.
+  void check_validity(const multibody::Data& data, ValidityMonitor& monitor) const override;
   void summarize(HumanoidSummary& summary) const override;
   bool has_fields() const override { return true; }
   /// The sole of foot @p foot (0 right, 1 left).
@@ -41,6 +46,7 @@ protected:
 
 private:
   double thickness_ = 0;
+  ValidityLimit jacobian_limit_;
   std::array<std::unique_ptr<coupling::NonlinearCondensedSole>, 2> soles_;
   Eigen::VectorXd forces_, offset_; ///< 3 n_c workspaces of update()
   Eigen::MatrixXd compliance_;      ///< 3 n_c square workspace of update()

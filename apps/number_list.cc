@@ -21,6 +21,12 @@ std::optional<double> to_number(const std::string& text) {
   return value;
 }
 
+std::string number_text(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
 std::vector<double> parse_numbers(const std::string& text, const std::string& parameter,
                                   std::size_t min_count, std::size_t max_count) {
   std::vector<double> values;

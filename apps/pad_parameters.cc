@@ -22,12 +22,6 @@ std::string slot_name(int slot) {
   return "Pad " + std::to_string(slot + 1);
 }
 
-std::string number_text(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-
 /// "NAME = VALUE, NAME = VALUE" -> gmsh -setnumber overrides.
 std::map<std::string, double> parse_mesh_numbers(const std::string& text,
                                                  const std::string& parameter) {

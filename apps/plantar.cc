@@ -50,10 +50,13 @@ Reads SCENE.prm, checks every parameter, runs the scene and writes into DIR:
   joints.csv       humanoid scenes: every joint's position, reference and PD torque
   contacts.csv     humanoid scenes: force and centre of pressure per foot, ZMP
   summary.csv      humanoid scenes: the summary's figures as name,value
+  unconverged_solves.csv  humanoid scenes: each contact solve above Contact/Tolerance
   figures/         humanoid scenes: PNG figures (plantar plot; not with --no-figures)
-A humanoid run that fails (fall, non-finite state, unconverged contact solve,
-deep penetration) names the step and time, writes the steps done so far to
-DIR/failed/ and exits with status 1.
+A humanoid run that fails (fall, non-finite state, contact solve above
+Contact/Failure residual, deep penetration, a sole past its validity) names the
+step and time and what to change, writes the steps done so far to DIR/failed/
+and exits with status 1; validity warnings go to the summary
+(docs/reliability.md).
 With Robot/Foot forms set (e.g. rigid, compliant ankle, fem sole) the scene
 runs once per form into DIR/<form>/ (rigid, compliant_ankle, fem_sole) and the
 figures comparing them go to DIR/figures/ (plantar plot). A form that fails

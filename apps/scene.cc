@@ -78,6 +78,7 @@ void Scene::declare(dealii::ParameterHandler& prm) {
   prm.enter_subsection("Sole");
   fem::SoleParameters::declare(prm);
   SoleReductionParameters::declare(prm);
+  SoleValidityParameters::declare(prm);
   prm.leave_subsection();
   prm.enter_subsection("Static load");
   StaticLoadParameters::declare(prm);
@@ -114,6 +115,7 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   prm.enter_subsection("Sole");
   sole.parse(prm, scene_directory);
   sole_reduction.parse(prm);
+  sole_validity.parse(prm);
   prm.leave_subsection();
   prm.enter_subsection("Static load");
   static_load.parse(prm);

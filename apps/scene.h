@@ -50,6 +50,7 @@ struct Scene {
   SceneType type = SceneType::static_sole;
   fem::SoleParameters sole;
   SoleReductionParameters sole_reduction; ///< subsection Sole, humanoid scenes (fem sole)
+  SoleValidityParameters sole_validity;   ///< subsection Sole, humanoid scenes (fem sole)
   StaticLoadParameters static_load;
   RobotParameters robot;
   ContactParameters contact;

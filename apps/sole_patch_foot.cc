@@ -7,6 +7,11 @@
 #include "fem/mesh_generator.h"
 #include "multibody/stepper.h"
 
+#include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <limits>
+
 namespace plantar::app {
 fem::PhysicalGroups SolePatchFoot::mesh_sole(const fem::SoleParameters& sole,
                                              dealii::Triangulation<3>& tria) {
@@ -22,6 +27,18 @@ void SolePatchFoot::set_patch(Eigen::Matrix3Xd nodes, Eigen::MatrixXd compliance
   nodes_ = std::move(nodes);
   compliance_ = std::move(compliance);
   damping_time_ = damping_time;
+  // Pressed down uniformly by delta: f_z = C_zz^-1 delta 1, total k delta with k = 1^T C_zz^-1 1.
+  const int n = n_nodes();
+  Eigen::MatrixXd c_zz(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      c_zz(i, j) = compliance_(3 * i + 2, 3 * j + 2);
+  stiffness_ = c_zz.ldlt().solve(Eigen::VectorXd::Ones(n)).sum();
+}
+
+void SolePatchFoot::summarize(HumanoidSummary& summary) const {
+  summary.n_sole_nodes = n_nodes();
+  summary.foot_stiffness = stiffness_;
 }
 
 void SolePatchFoot::add_contacts(double friction) {
@@ -42,6 +59,25 @@ void SolePatchFoot::add_contacts(double friction) {
     pads_[foot]->set_damping(damping_time_);
     for (int k = 0; k < n; ++k)
       feet_[foot].push_back({frame.body, body_nodes.col(k)});
+    bodies_[foot] = frame.body;
+    normal_in_body_[foot] = frame.placement.rotation.col(2);
+  }
+}
+
+void SolePatchFoot::node_deformation(int foot, const multibody::Data& data, double& compression,
+                                     double& displacement) const {
+  const Eigen::Vector3d normal = data.oMi[bodies_[foot]].rotation * normal_in_body_[foot];
+  const Eigen::VectorXd& u = pads_[foot]->displacement();
+  compression = 0;
+  displacement = 0;
+  for (int k = 0; k < n_nodes(); ++k) {
+    const Eigen::Vector3d u_k = contact::ground_to_world(u.segment<3>(3 * k));
+    if (!u_k.allFinite()) { // the monitor treats NaN as past every limit
+      compression = displacement = std::numeric_limits<double>::quiet_NaN();
+      return;
+    }
+    compression = std::max(compression, u_k.dot(normal));
+    displacement = std::max(displacement, u_k.norm());
   }
 }
 

@@ -27,7 +27,8 @@ public:
   int max_contacts() const override { return 2 * n_nodes(); }
   /// Force: the node forces at the step's end; depth: of the deformed nodes (z + u_n).
   void report(int foot, const multibody::Data& data, double dt, FootReport& out) const override;
-  void summarize(HumanoidSummary& summary) const override { summary.n_sole_nodes = n_nodes(); }
+  /// Contact nodes per sole and the sole's vertical stiffness (foot_stiffness, at u = 0).
+  void summarize(HumanoidSummary& summary) const override;
   /// The .vtu of scene_vtk_writer.h: displacement (world), stress fields, contact
   /// displacement, force, pressure and node flag, material ids.
   void write_fields(int foot, const multibody::SE3& placement,
@@ -47,6 +48,11 @@ protected:
   int n_nodes() const { return static_cast<int>(nodes_.cols()); }
   /// Force on node @p node of foot @p foot at the step's end, (n, t1, t2) = world (z, x, y), N.
   Eigen::Vector3d node_force(int foot, int node) const;
+  /// Largest compression u_k . n (m; n: the sole's normal into the foot) and largest |u_k|
+  /// (m) over the contact nodes of foot @p foot after the step (@p data: its kinematics).
+  /// No heap allocation.
+  void node_deformation(int foot, const multibody::Data& data, double& compression,
+                        double& displacement) const;
   /// Replaces foot @p foot's patch compliance (3n x 3n, m/N) and offset (3n, m), body frame.
   void set_patch_compliance(int foot, const Eigen::MatrixXd& compliance,
                             const Eigen::VectorXd& offset);
@@ -77,8 +83,11 @@ private:
   Eigen::Matrix3Xd nodes_;
   Eigen::MatrixXd compliance_;
   double damping_time_ = 0;
+  double stiffness_ = 0;                                    ///< N/m, 1^T C_zz^-1 1 of compliance_
   std::array<std::unique_ptr<coupling::PadState>, 2> pads_; ///< the stepper's patches
   std::array<std::vector<Node>, 2> feet_;
+  std::array<int, 2> bodies_{};                   ///< the body carrying each sole
+  std::array<Eigen::Vector3d, 2> normal_in_body_; ///< each sole's normal (into the foot), body
 };
 
 } // namespace plantar::app

@@ -234,7 +234,7 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
   std::ostringstream table, failures;
   table << "id,foot_form,time_step,E,nu,status,max_waist_acceleration_z,roll_difference_deg,"
            "max_roll_difference_deg,n_steps,mean_solver_iterations,n_unconverged,"
-           "loop_wall_time\n"
+           "n_validity_warnings,loop_wall_time\n"
         << std::setprecision(17);
   int n_failed = 0, n_missing = 0;
   for (const SweepPoint& p : points) {
@@ -251,12 +251,12 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
       table << "ok";
       for (const char* name :
            {"max_waist_acceleration_z", "roll_difference_deg", "max_roll_difference_deg", "n_steps",
-            "mean_solver_iterations", "n_unconverged", "loop_wall_time"})
+            "mean_solver_iterations", "n_unconverged", "n_validity_warnings", "loop_wall_time"})
         table << "," << read_summary_value(s, name);
       table << "\n";
       continue;
     }
-    table << (fs::exists(dir / "failure.txt") ? "failed" : "missing") << ",,,,,,,\n";
+    table << (fs::exists(dir / "failure.txt") ? "failed" : "missing") << ",,,,,,,,\n";
     if (fs::exists(dir / "failure.txt")) {
       ++n_failed;
       std::ifstream in(dir / "failure.txt");

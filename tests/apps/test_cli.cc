@@ -320,6 +320,15 @@ TEST(Cli, BadScenesGiveOneClearErrorAndNoOutput) {
       {"sweep-skip",
        "subsection Contact\n  set Sweep skip fraction = 1\nend\n",
        {"Contact/Sweep skip fraction", "= 1", "in [0, 1)"}},
+      {"failure-residual",
+       "subsection Contact\n  set Failure residual = 0.5 x Tolerance\nend\n",
+       {"Contact/Failure residual", "0.5 x Tolerance", "'k x Tolerance' (k >= 1)"}},
+      {"failure-residual-nan",
+       "subsection Contact\n  set Failure residual = nan\nend\n",
+       {"Contact/Failure residual", "nan", "in m/s (> 0)"}},
+      {"min-jacobian",
+       "subsection Sole\n  set Min jacobian = 0\nend\n",
+       {"Sole/Min jacobian", "0", "in (0, 1)"}},
   };
   for (const auto& c : cases) {
     const auto scene = write_scene(std::string("bad-") + c.name, c.text);
