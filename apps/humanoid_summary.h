@@ -50,6 +50,7 @@ struct HumanoidSummary {
   int sole_recondensations = 0;    ///< tangent re-condensations
   double sole_tolerated_error = 0; ///< largest prediction error accepted without re-condensing
   double sole_recondensation_tolerance = 0; ///< the scene's tolerance (0: linear sole)
+  double sole_dissipated_energy = 0;        ///< J, by viscoelastic soles (law=prony), both feet
   /// Wall seconds of the loop per simulated second.
   double cost() const { return simulated_time > 0 ? loop_wall_time / simulated_time : 0; }
 };

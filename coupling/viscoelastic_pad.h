@@ -48,6 +48,12 @@ public:
   /// The history displacement d in the body frame (3 n, m): PadState's offset.
   const Eigen::VectorXd& offset() const { return offset_; }
   const fem::ViscoelasticCondensation& sole() const { return *sole_; }
+  const fem::Discretization& discretization() const { return *discretization_; }
+
+  /// Places the pad anew on its body (R orthonormal, pad -> body; t in m): contact_positions()
+  /// and compliance() follow. Before the state is made from compliance() (set-up only,
+  /// allocates nothing new). Throws std::invalid_argument if R is not a rotation.
+  void set_placement(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation);
 
   /// After each step of the stepper that holds @p state (made from compliance()): advances the
   /// FEM state under the step's node forces and sets the next offset on @p state. Does not
