@@ -82,6 +82,7 @@ void ViscoelasticPad::finish_step(PadState& state) {
     offset_.segment<3>(3 * k).noalias() =
         rotation_ * Eigen::Vector3d(history(3 * k), history(3 * k + 1), history(3 * k + 2));
   state.set_offset(offset_);
+  state.set_lifted_offset(true);
 }
 
 } // namespace plantar::coupling
