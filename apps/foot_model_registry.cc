@@ -5,6 +5,7 @@
 #include "apps/hyperelastic_sole_foot.h"
 #include "apps/rigid_foot.h"
 #include "apps/scene.h"
+#include "apps/viscoelastic_sole_foot.h"
 
 #include <stdexcept>
 
@@ -19,6 +20,8 @@ template <class Model> std::unique_ptr<FootModel> make(const Scene& scene) {
 std::unique_ptr<FootModel> make_fem_sole(const Scene& scene) {
   if (sole_model(scene.sole) == SoleModel::hyperelastic)
     return make<HyperelasticSoleFoot>(scene);
+  if (has_viscoelastic_material(scene.sole.materials))
+    return make<ViscoelasticSoleFoot>(scene);
   return make<CondensedSoleFoot>(scene);
 }
 

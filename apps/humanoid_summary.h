@@ -62,6 +62,7 @@ struct HumanoidSummary {
   double sole_recondensation_tolerance = 0; ///< the scene's tolerance (0: linear sole)
   /// The validity guards of the models (apps/validity_monitor.h): their warnings and peaks.
   ValidityMonitor validity;
+  double sole_dissipated_energy = 0; ///< J, by viscoelastic soles (law=prony), both feet
   /// Wall seconds of the loop per simulated second.
   double cost() const { return simulated_time > 0 ? loop_wall_time / simulated_time : 0; }
 };

@@ -74,7 +74,8 @@ public:
 
 void write_pad_fields(const PadFieldMesh& mesh, const coupling::PadState& pad,
                       const FieldRecovery& recover, const dealii::DataPostprocessor<3>& stress,
-                      const multibody::SE3& placement, const std::filesystem::path& path) {
+                      const multibody::SE3& placement, const std::filesystem::path& path,
+                      const std::vector<PadCellField>& cell_fields) {
   const Eigen::VectorXd& area = *mesh.node_areas;
   const Eigen::Matrix3d& rotation = placement.rotation;  // mesh -> world
   const Eigen::VectorXd& u_contact = pad.displacement(); // (n, t1, t2) per node
@@ -116,6 +117,13 @@ void write_pad_fields(const PadFieldMesh& mesh, const coupling::PadState& pad,
   for (const auto& cell : dof_handler.active_cell_iterators())
     material_id(cell->active_cell_index()) = cell->material_id();
   out.add_data_vector(material_id, "material_id", dealii::DataOut<3>::type_cell_data);
+  std::vector<dealii::Vector<float>> extra(cell_fields.size());
+  for (std::size_t i = 0; i < cell_fields.size(); ++i) {
+    extra[i].reinit(material_id.size());
+    for (unsigned int c = 0; c < material_id.size(); ++c)
+      extra[i](c) = static_cast<float>(cell_fields[i].values.at(c));
+    out.add_data_vector(extra[i], cell_fields[i].name, dealii::DataOut<3>::type_cell_data);
+  }
   const unsigned int subdivisions =
       discretization.kind == fem::CellKind::hexahedron ? discretization.degree : 1;
   out.build_patches(*discretization.mapping, subdivisions);

@@ -17,6 +17,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace plantar::app {
@@ -31,15 +32,23 @@ struct PadFieldMesh {
   const Eigen::VectorXd* node_areas = nullptr;
 };
 
+/// A per-cell field of the .vtu: one value per active cell (indexed by active_cell_index()).
+struct PadCellField {
+  std::string name;
+  std::vector<double> values;
+};
+
 /// The full displacement field (deal.II dof order, m, mesh frame) from the contact nodes'
 /// displacements (3 n, mesh frame); may use the workspace given as second argument.
 using FieldRecovery =
     std::function<const dealii::Vector<double>&(const Eigen::VectorXd&, dealii::Vector<double>&)>;
 
 /// Writes @p pad's state on @p mesh as a .vtu at @p path (atomically): @p placement maps the
-/// mesh frame to the world; @p stress adds the material's fields. Allocates (output steps only).
+/// mesh frame to the world; @p stress adds the material's fields; @p cell_fields more per-cell
+/// fields (e.g. a viscoelastic sole's dissipated energy density). Allocates (output steps only).
 void write_pad_fields(const PadFieldMesh& mesh, const coupling::PadState& pad,
                       const FieldRecovery& recover, const dealii::DataPostprocessor<3>& stress,
-                      const multibody::SE3& placement, const std::filesystem::path& path);
+                      const multibody::SE3& placement, const std::filesystem::path& path,
+                      const std::vector<PadCellField>& cell_fields = {});
 
 } // namespace plantar::app

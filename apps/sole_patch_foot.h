@@ -5,6 +5,7 @@
 // The only user of the stepper's patch API in apps/.
 
 #include "apps/foot_model.h"
+#include "apps/pad_field_writer.h"
 #include "coupling/pad_state.h"
 #include "fem/discretization.h"
 #include "fem/mesh_import.h"
@@ -46,6 +47,14 @@ protected:
   void set_patch(Eigen::Matrix3Xd nodes, Eigen::MatrixXd compliance, double damping_time);
   void add_contacts(double friction) override;
   int n_nodes() const { return static_cast<int>(nodes_.cols()); }
+  /// The stepper's pad state of foot @p foot (valid after attach).
+  coupling::PadState& pad_state(int foot) { return *pads_[foot]; }
+  /// Consistent areas a_k = int_bottom N_k ds (m^2) of the contact nodes @p dofs (their z dofs
+  /// used) of a sole on @p dof_handler; bottom = the faces with boundary id @p bottom.
+  static Eigen::VectorXd
+  consistent_areas(const dealii::DoFHandler<3>& dof_handler,
+                   const fem::Discretization& discretization, dealii::types::boundary_id bottom,
+                   const std::vector<std::array<dealii::types::global_dof_index, 3>>& dofs);
   /// Force on node @p node of foot @p foot at the step's end, (n, t1, t2) = world (z, x, y), N.
   Eigen::Vector3d node_force(int foot, int node) const;
   /// Largest compression u_k . n (m; n: the sole's normal into the foot) and largest |u_k|
@@ -74,6 +83,11 @@ protected:
                      dealii::Vector<double>& workspace) const = 0;
   /// Strain, stress and von Mises stress of foot @p foot's material.
   virtual std::unique_ptr<dealii::DataPostprocessor<3>> stress_postprocessor(int foot) const = 0;
+  /// More per-cell fields of foot @p foot's .vtu (none by default).
+  virtual std::vector<PadCellField> cell_fields(int foot) const {
+    (void)foot;
+    return {};
+  }
 
 private:
   struct Node {

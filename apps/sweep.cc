@@ -47,8 +47,9 @@ std::string point_scene(const fs::path& scene_file, const Scene& scene, const Sw
   prm.leave_subsection();
   prm.enter_subsection("Sole");
   prm.set("Geometry file", fs::absolute(scene.sole.geometry_file).string());
-  prm.set("Materials", replace_material(prm.get("Materials"), point.youngs_modulus,
-                                        point.poisson_ratio, point.has_poisson_ratio));
+  prm.set("Materials",
+          replace_material(prm.get("Materials"), point.youngs_modulus, point.poisson_ratio,
+                           point.has_poisson_ratio, point.relaxation_time));
   prm.leave_subsection();
   prm.enter_subsection("Simulation");
   prm.set("Time step", number(point.time_step));
@@ -57,7 +58,7 @@ std::string point_scene(const fs::path& scene_file, const Scene& scene, const Sw
   prm.set("Write VTU", false); // a sweep point needs its summary only
   prm.leave_subsection();
   prm.enter_subsection("Sweep");
-  for (const char* entry : {"Young's moduli", "Poisson ratios", "Time steps"})
+  for (const char* entry : {"Young's moduli", "Poisson ratios", "Relaxation times", "Time steps"})
     prm.set(entry, "");
   prm.leave_subsection();
   std::ostringstream out;
@@ -103,7 +104,7 @@ pid_t start_point(const fs::path& executable, const fs::path& directory) {
 } // namespace
 
 std::string replace_material(const std::string& materials, double youngs_modulus,
-                             double poisson_ratio, bool set_nu) {
+                             double poisson_ratio, bool set_nu, double relaxation_time) {
   std::string result = materials;
   const std::string number_pattern = "[-+0-9.eE]+";
   if (youngs_modulus > 0)
@@ -112,6 +113,13 @@ std::string replace_material(const std::string& materials, double youngs_modulus
   if (set_nu)
     result = std::regex_replace(result, std::regex("\\bnu\\s*=\\s*" + number_pattern),
                                 "nu=" + number(poisson_ratio));
+  if (relaxation_time > 0) {
+    const std::regex tau("\\btau1\\s*=\\s*" + number_pattern);
+    if (!std::regex_search(result, tau))
+      throw std::invalid_argument("Sweep/Relaxation times: Sole/Materials = '" + materials +
+                                  "' has no tau1 (a viscoelastic sole, law=prony, needed)");
+    result = std::regex_replace(result, tau, "tau1=" + number(relaxation_time));
+  }
   return result;
 }
 
@@ -125,6 +133,9 @@ std::vector<SweepPoint> sweep_points(const Scene& scene) {
   std::vector<double> moduli = scene.sweep.youngs_moduli, ratios = scene.sweep.poisson_ratios;
   if (moduli.empty())
     moduli.push_back(0);
+  std::vector<double> taus = scene.sweep.relaxation_times;
+  if (taus.empty())
+    taus.push_back(0);
   std::vector<SweepPoint> points;
   for (const FootForm form : forms)
     for (const double dt : steps) {
@@ -140,15 +151,19 @@ std::vector<SweepPoint> sweep_points(const Scene& scene) {
       for (const double e : moduli) {
         point.youngs_modulus = e;
         const std::string with_e = e > 0 ? base + "_E" + short_number(e * 1e-6) + "MPa" : base;
-        if (ratios.empty()) {
-          point.id = with_e;
-          points.push_back(point);
-        }
+        auto add = [&](const std::string& id) {
+          for (const double tau : taus) {
+            point.relaxation_time = tau;
+            point.id = tau > 0 ? id + "_tau" + short_number(tau * 1e3) + "ms" : id;
+            points.push_back(point);
+          }
+        };
+        if (ratios.empty())
+          add(with_e);
         for (const double nu : ratios) {
           point.poisson_ratio = nu;
           point.has_poisson_ratio = true;
-          point.id = with_e + "_nu" + short_number(nu);
-          points.push_back(point);
+          add(with_e + "_nu" + short_number(nu));
         }
       }
     }
@@ -234,7 +249,7 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
   std::ostringstream table, failures;
   table << "id,foot_form,time_step,E,nu,status,max_waist_acceleration_z,roll_difference_deg,"
            "max_roll_difference_deg,n_steps,mean_solver_iterations,n_unconverged,"
-           "n_validity_warnings,loop_wall_time\n"
+           "n_validity_warnings,loop_wall_time,tau1,sole_dissipated_energy\n"
         << std::setprecision(17);
   int n_failed = 0, n_missing = 0;
   for (const SweepPoint& p : points) {
@@ -253,10 +268,16 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
            {"max_waist_acceleration_z", "roll_difference_deg", "max_roll_difference_deg", "n_steps",
             "mean_solver_iterations", "n_unconverged", "n_validity_warnings", "loop_wall_time"})
         table << "," << read_summary_value(s, name);
-      table << "\n";
+      table << ",";
+      if (p.relaxation_time > 0)
+        table << p.relaxation_time;
+      table << "," << read_summary_value(s, "sole_dissipated_energy") << "\n";
       continue;
     }
-    table << (fs::exists(dir / "failure.txt") ? "failed" : "missing") << ",,,,,,,,\n";
+    table << (fs::exists(dir / "failure.txt") ? "failed" : "missing") << ",,,,,,,,,";
+    if (p.relaxation_time > 0)
+      table << p.relaxation_time;
+    table << ",\n";
     if (fs::exists(dir / "failure.txt")) {
       ++n_failed;
       std::ifstream in(dir / "failure.txt");

@@ -1,7 +1,7 @@
 #pragma once
 // `plantar sweep`: one run of a scene per grid point (foot form x time step x, for the FEM
-// sole, Young's modulus x Poisson ratio; subsection Sweep), each in its own child process
-// `plantar run DIR/points/<id>/scene.prm -o DIR/points/<id>`, up to N at a time. A point is
+// sole, Young's modulus x Poisson ratio x relaxation time; subsection Sweep), each in its own child
+// process `plantar run DIR/points/<id>/scene.prm -o DIR/points/<id>`, up to N at a time. A point is
 // finished when its DIR/points/<id>/summary.csv (or failure.txt) exists; both are written
 // atomically, so an interrupted sweep resumes without recomputing finished points.
 // The results are gathered into DIR/sweep.csv (one row per point).
@@ -20,17 +20,21 @@ struct SweepPoint {
   double youngs_modulus = 0; ///< Pa; 0: the scene's material (or not an FEM sole)
   double poisson_ratio = 0;  ///< valid if youngs_modulus or has_poisson_ratio
   bool has_poisson_ratio = false;
-  std::string id; ///< directory name, e.g. fem_sole_dt1ms_E4MPa_nu0.3
+  double relaxation_time = 0; ///< s, tau1 of a law=prony sole; 0: the scene's material
+  std::string id;             ///< directory name, e.g. fem_sole_dt1ms_E4MPa_nu0.3
 };
 
 /// The grid of @p scene: forms (Robot/Foot forms, or Robot/Foot form) x Sweep/Time steps (or
-/// Simulation/Time step) x, for fem sole, Sweep/Young's moduli x Sweep/Poisson ratios.
+/// Simulation/Time step) x, for fem sole, Sweep/Young's moduli x Sweep/Poisson ratios x
+/// Sweep/Relaxation times.
 std::vector<SweepPoint> sweep_points(const Scene& scene);
 
 /// Sole/Materials @p materials with every "E=..." replaced by @p youngs_modulus (if > 0) and
-/// every "nu=..." by @p poisson_ratio (if @p set_nu).
+/// every "nu=..." by @p poisson_ratio (if @p set_nu) and every "tau1=..." by
+/// @p relaxation_time (s, if > 0). Throws std::invalid_argument naming Sweep/Relaxation times if
+/// a relaxation time is given but the materials have no tau1 (not a viscoelastic sole).
 std::string replace_material(const std::string& materials, double youngs_modulus,
-                             double poisson_ratio, bool set_nu);
+                             double poisson_ratio, bool set_nu, double relaxation_time = 0);
 
 /// Runs the sweep of @p scene_file (already loaded into @p scene) into @p output with up to
 /// @p jobs child processes of @p executable (the plantar binary). Writes

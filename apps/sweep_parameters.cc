@@ -1,5 +1,6 @@
 #include "apps/sweep_parameters.h"
 
+#include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -42,6 +43,11 @@ void SweepParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Poisson ratios", "", dealii::Patterns::Anything(),
                     "plantar sweep: comma-separated Poisson ratios nu (-1 < nu < 0.5) replacing "
                     "nu= in Sole/Materials (fem sole points). Empty: the scene's material.");
+  prm.declare_entry("Relaxation times", "", dealii::Patterns::Anything(),
+                    "plantar sweep: comma-separated relaxation times tau (s, > 0) replacing "
+                    "tau1= (the first Prony branch's) in Sole/Materials of a viscoelastic sole "
+                    "(law=prony, docs/viscoelastic.md; fem sole points). Empty: the scene's "
+                    "material.");
   prm.declare_entry("Time steps", "", dealii::Patterns::Anything(),
                     "plantar sweep: comma-separated time steps (s, 0 < dt <= 0.01). Empty: "
                     "Simulation/Time step.");
@@ -53,6 +59,9 @@ void SweepParameters::parse(dealii::ParameterHandler& prm) {
   poisson_ratios = parse_list(
       prm.get("Poisson ratios"), "Poisson ratios", [](double nu) { return nu > -1 && nu < 0.5; },
       "in (-1, 0.5)");
+  relaxation_times = parse_list(
+      prm.get("Relaxation times"), "Relaxation times",
+      [](double tau) { return tau > 0 && std::isfinite(tau); }, "> 0 (s)");
   time_steps = parse_list(
       prm.get("Time steps"), "Time steps", [](double dt) { return dt > 0 && dt <= 0.01; },
       "in (0, 0.01] (s)");

@@ -105,7 +105,10 @@ void PadState::deactivate(int first_contact) {
     target.compliance_over_dt.swap(parked_);
   target.first_contact = first_contact;
   target.n_contacts = 0;
-  displacement_.setZero(); // a massless pad relaxes when lifted
+  if (lifted_offset_ && has_offset_) // U = C 0 + d: the free recovery
+    displacement_ = offset_contact_;
+  else
+    displacement_.setZero(); // a massless pad relaxes when lifted
   elastic_.setZero();
   has_last_solve_ = false;
 }
@@ -171,8 +174,11 @@ void PadState::finish_step(const Eigen::Ref<const Eigen::VectorXd>& impulses,
     has_force_ = false;
   }
   const contact::CompliantPatch& target = block();
-  if (target.n_contacts == 0)
+  if (target.n_contacts == 0) {
+    if (lifted_offset_ && has_offset_)
+      displacement_ = offset_contact_;
     return;
+  }
   const int first = target.first_contact;
   for (int k = 0; k < n; ++k)
     node_impulses[k] += impulses.segment<3>(3 * (first + k));

@@ -12,7 +12,8 @@
 //   U+ = a C F + U_bar,  a = theta / (beta/dt + theta),
 //   U_bar = ((beta/dt - (1-theta)) U + (1-theta) C F_prev) / (beta/dt + theta),
 // so the block becomes a C / (theta dt)^2 and the deformation-rate term -(U - U_bar)/(theta dt).
-// A lifted pad relaxes at once (massless, beta << the swing).
+// A lifted pad relaxes at once (massless, beta << the swing), or keeps U = d when its offset is
+// its free recovery (set_lifted_offset).
 // A node's impulse over the step is dt ((1-theta) F_prev + theta F).
 
 #include "contact/deformable_patch.h"
@@ -40,6 +41,10 @@ public:
   /// Between steps; O(n), does not allocate. Throws std::invalid_argument on a size or a
   /// non-finite value, or on a damped pad.
   void set_offset(const Eigen::Ref<const Eigen::VectorXd>& offset);
+  /// With @p on, a lifted pad keeps U = d, its unloaded shape (an offset pad whose offset is
+  /// its free recovery, e.g. a viscoelastic pad: coupling/viscoelastic_pad.h), renewed at every
+  /// lifted step, instead of relaxing at once to U = 0 (the default). Between steps.
+  void set_lifted_offset(bool on) { lifted_offset_ = on; }
   /// a = R_c^T R_body of the last activate() (contact frame <- body frame): the frame of
   /// force() and displacement() (node_force(k) = a F_body(k)).
   const Eigen::Matrix3d& rotation() const { return rotation_; }
@@ -84,6 +89,7 @@ private:
   Eigen::VectorXd offset_;         // d (body frame)
   Eigen::VectorXd offset_contact_; // d in the contact frames of the current step
   bool has_offset_ = false;
+  bool lifted_offset_ = false; // lifted: U = d (set_lifted_offset) rather than 0
   Eigen::Matrix3d rotation_ = Eigen::Matrix3d::Identity(); // a of the current step
   Eigen::VectorXd product_;     // C/(theta dt)^2 (I (x) a)^T p of the last solve (body frame)
   Eigen::VectorXd impulse_;     // (I (x) a)^T p of the last solve (body frame), N s

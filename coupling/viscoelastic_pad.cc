@@ -15,7 +15,21 @@ ViscoelasticPad::ViscoelasticPad(const dealii::Triangulation<3>& triangulation, 
                                  const fem::ViscoelasticCondensationParameters& parameters,
                                  const Eigen::Matrix3d& rotation,
                                  const Eigen::Vector3d& translation)
-    : materials_(materials), rotation_(rotation) {
+    : materials_(materials) {
+  triangulation_.copy_triangulation(triangulation);
+  discretization_ = std::make_unique<fem::Discretization>(fem::cell_kind(triangulation_), degree);
+  sole_ = std::make_unique<fem::ViscoelasticCondensation>(triangulation_, *discretization_,
+                                                          materials_, parameters);
+  const int n = static_cast<int>(sole_->n_contacts());
+  positions_.resize(3, n);
+  compliance_.resize(3 * n, 3 * n);
+  offset_ = Eigen::VectorXd::Zero(3 * n);
+  forces_.reinit(3 * n);
+  set_placement(rotation, translation);
+}
+
+void ViscoelasticPad::set_placement(const Eigen::Matrix3d& rotation,
+                                    const Eigen::Vector3d& translation) {
   if (!rotation.allFinite() ||
       (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() >
           1e-12 ||
@@ -26,26 +40,23 @@ ViscoelasticPad::ViscoelasticPad(const dealii::Triangulation<3>& triangulation, 
   }
   if (!translation.allFinite())
     throw std::invalid_argument("ViscoelasticPad: translation is not finite");
-  triangulation_.copy_triangulation(triangulation);
-  discretization_ = std::make_unique<fem::Discretization>(fem::cell_kind(triangulation_), degree);
-  sole_ = std::make_unique<fem::ViscoelasticCondensation>(triangulation_, *discretization_,
-                                                          materials_, parameters);
-  const int n = static_cast<int>(sole_->n_contacts());
-  positions_.resize(3, n);
+  rotation_ = rotation;
+  const int n = n_contacts();
   for (int k = 0; k < n; ++k) {
     const auto& p = sole_->contact_positions()[k];
     positions_.col(k) = rotation * Eigen::Vector3d(p[0], p[1], p[2]) + translation;
   }
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> c(
       sole_->effective_compliance().data(), 3 * n, 3 * n);
-  compliance_.resize(3 * n, 3 * n);
   for (int k = 0; k < n; ++k)
     for (int l = 0; l < n; ++l)
       compliance_.block<3, 3>(3 * k, 3 * l) =
           rotation * c.block<3, 3>(3 * k, 3 * l) * rotation.transpose();
   compliance_ = 0.5 * (compliance_ + compliance_.transpose()).eval();
-  offset_ = Eigen::VectorXd::Zero(3 * n);
-  forces_.reinit(3 * n);
+  const dealii::Vector<double>& history = sole_->history_displacement();
+  for (int k = 0; k < n; ++k)
+    offset_.segment<3>(3 * k) =
+        rotation * Eigen::Vector3d(history(3 * k), history(3 * k + 1), history(3 * k + 2));
 }
 
 ViscoelasticPad::~ViscoelasticPad() = default;
@@ -71,6 +82,7 @@ void ViscoelasticPad::finish_step(PadState& state) {
     offset_.segment<3>(3 * k).noalias() =
         rotation_ * Eigen::Vector3d(history(3 * k), history(3 * k + 1), history(3 * k + 2));
   state.set_offset(offset_);
+  state.set_lifted_offset(true);
 }
 
 } // namespace plantar::coupling

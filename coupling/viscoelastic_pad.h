@@ -10,8 +10,9 @@
 //                            advance() of the FEM state, d^{n+1} (pad -> body frame) set on the
 //                            state by PadState::set_offset.
 // Frames: pad (mesh) frame -> body frame by x_body = R x_pad + t; C_body = blockwise R C R^T.
-// A lifted pad (no force) keeps relaxing: advance() with F = 0. PadState sets U = 0 when the
-// pad is lifted, not U = d: a pad lifted while still deformed re-enters with that jump (weak).
+// A lifted pad (no force) keeps relaxing: advance() with F = 0, and its state shows U = d, the
+// free recovery (PadState::set_lifted_offset, set by finish_step), so that it re-enters contact
+// with its recovering shape.
 
 #include "coupling/pad_state.h"
 #include "fem/viscoelastic_condensation.h"
@@ -48,10 +49,16 @@ public:
   /// The history displacement d in the body frame (3 n, m): PadState's offset.
   const Eigen::VectorXd& offset() const { return offset_; }
   const fem::ViscoelasticCondensation& sole() const { return *sole_; }
+  const fem::Discretization& discretization() const { return *discretization_; }
+
+  /// Places the pad anew on its body (R orthonormal, pad -> body; t in m): contact_positions()
+  /// and compliance() follow. Before the state is made from compliance() (set-up only,
+  /// allocates nothing new). Throws std::invalid_argument if R is not a rotation.
+  void set_placement(const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation);
 
   /// After each step of the stepper that holds @p state (made from compliance()): advances the
-  /// FEM state under the step's node forces and sets the next offset on @p state. Does not
-  /// allocate.
+  /// FEM state under the step's node forces and sets the next offset on @p state (and marks it
+  /// to keep U = d while lifted: PadState::set_lifted_offset). Does not allocate.
   void finish_step(PadState& state);
 
 private:

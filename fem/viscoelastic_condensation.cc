@@ -1,6 +1,7 @@
 #include "fem/viscoelastic_condensation.h"
 
 #include "fem/contact_condensation.h"
+#include "fem/linear_elastic_material.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -29,6 +30,15 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Integrals over one step, x = dt / tau, of E = exp(-s/tau) (s/tau from 0 to x):
+/// int E^2, int E (1 - E), int (1 - E)^2, the last by its series for small x (cancellation).
+void step_integrals(double x, double& ee, double& e_one, double& one_one) {
+  ee = -0.5 * std::expm1(-2.0 * x);
+  e_one = -std::expm1(-x) + 0.5 * std::expm1(-2.0 * x);
+  one_one = x < 1e-2 ? x * x * x * (1.0 / 3.0 - x * (0.25 - x * (7.0 / 60.0 - x / 24.0)))
+                     : x + 2.0 * std::expm1(-x) - 0.5 * std::expm1(-2.0 * x);
 }
 
 } // namespace
@@ -163,6 +173,7 @@ ViscoelasticCondensation::ViscoelasticCondensation(
     const ViscoelasticMaterial& material = materials_[id];
     RegionStep region;
     region.effective = material.effective_stiffness(dt);
+    region.long_term = material.long_term_stiffness();
     for (const PronyBranch& branch : material.branches()) {
       double decay = 0, gamma = 0;
       ViscoelasticMaterial::step_factors(dt, branch.relaxation_time, decay, gamma);
@@ -170,6 +181,12 @@ ViscoelasticCondensation::ViscoelasticCondensation(
       region.bulk.push_back(branch.bulk_modulus);
       region.decay.push_back(decay);
       region.gamma.push_back(gamma);
+      const double x = dt / branch.relaxation_time;
+      double ee = 0, e_one = 0, one_one = 0;
+      step_integrals(x, ee, e_one, one_one);
+      region.w_aa.push_back(ee);
+      region.w_ac.push_back(2.0 * e_one / x);
+      region.w_cc.push_back(one_one / (x * x));
     }
     regions_.emplace(id, std::move(region));
   }
@@ -193,6 +210,8 @@ ViscoelasticCondensation::ViscoelasticCondensation(
   history_solution_.reinit(n);
   history_displacement_.reinit(3 * n_contacts());
   contact_displacement_.reinit(3 * n_contacts());
+  previous_forces_.reinit(3 * n_contacts());
+  cell_dissipation_.assign(triangulation.n_active_cells(), 0.0);
 
   const auto& fe = *discretization_.fe;
   impl_->fe_values = std::make_unique<FEValues<3>>(
@@ -285,8 +304,14 @@ void ViscoelasticCondensation::advance(const Vector<double>& contact_forces) {
       rhs_(contact_dofs_[k][d]) += contact_forces(3 * k + d);
   impl_->solve(rhs_.begin(), solution_.begin());
   for (unsigned int k = 0; k < n_contacts(); ++k)
-    for (unsigned int d = 0; d < 3; ++d)
-      contact_displacement_(3 * k + d) = solution_(contact_dofs_[k][d]);
+    for (unsigned int d = 0; d < 3; ++d) {
+      const unsigned int i = 3 * k + d;
+      const double u = solution_(contact_dofs_[k][d]);
+      external_work_ +=
+          0.5 * (previous_forces_(i) + contact_forces(i)) * (u - contact_displacement_(i));
+      contact_displacement_(i) = u;
+      previous_forces_(i) = contact_forces(i);
+    }
   timings_.field_solve = seconds_since(start);
   start = std::chrono::steady_clock::now();
   update_history();
@@ -367,12 +392,20 @@ void ViscoelasticCondensation::update_history() {
       const SymmetricTensor<2, 3> dev_increment = deviator(increment), dev_eps = deviator(eps);
       const double tr_increment = trace(increment), tr_eps = trace(eps);
       SymmetricTensor<2, 3> s;
+      double dissipation = 0;
       for (std::size_t i = 0; i < n_branches; ++i, ++h) {
         const double e = region.decay[i], g = region.gamma[i];
-        const double two_shear = 2.0 * region.shear[i], bulk = region.bulk[i];
-        *h = e * *h + g * (two_shear * dev_increment + (bulk * tr_increment) * identity);
-        s += e * *h - g * (two_shear * dev_eps + (bulk * tr_eps) * identity);
+        const double shear = region.shear[i], bulk = region.bulk[i];
+        const SymmetricTensor<2, 3> c =
+            2.0 * shear * dev_increment + (bulk * tr_increment) * identity;
+        dissipation += region.w_aa[i] * inverse_product(*h, *h, shear, bulk) +
+                       region.w_ac[i] * inverse_product(*h, c, shear, bulk) +
+                       region.w_cc[i] * inverse_product(c, c, shear, bulk);
+        *h = e * *h + g * c;
+        s += e * *h - g * (2.0 * shear * dev_eps + (bulk * tr_eps) * identity);
       }
+      cell_dissipation_[index] += dissipation * w.jxw[k];
+      dissipated_energy_ += dissipation * w.jxw[k];
       strain[q] = eps;
       // f_j += (s : sym(e_c (x) grad phi_j)) JxW = (s . grad phi_j)_c JxW.
       const Tensor<2, 3> stress = s;
@@ -396,7 +429,93 @@ void ViscoelasticCondensation::reset() {
   history_solution_ = 0;
   history_displacement_ = 0;
   contact_displacement_ = 0;
+  previous_forces_ = 0;
+  std::fill(cell_dissipation_.begin(), cell_dissipation_.end(), 0.0);
+  dissipated_energy_ = external_work_ = 0;
   time_ = 0;
+}
+
+double ViscoelasticCondensation::inverse_product(const SymmetricTensor<2, 3>& x,
+                                                 const SymmetricTensor<2, 3>& y, double shear,
+                                                 double bulk) {
+  // C^-1 = P_vol / (3 K) + P_dev / (2 G): x : C^-1 : y = tr x tr y / (9 K) + dev x : dev y / (2 G).
+  double product = 0;
+  if (shear > 0)
+    product += (deviator(x) * deviator(y)) / (2.0 * shear);
+  if (bulk > 0)
+    product += trace(x) * trace(y) / (9.0 * bulk);
+  return product;
+}
+
+SymmetricTensor<2, 3> ViscoelasticCondensation::strain_at(unsigned int index, unsigned int q,
+                                                          const double* local) const {
+  const Impl& w = *impl_;
+  const unsigned int n_q = discretization_.cell_quadrature.size();
+  const std::size_t k = std::size_t{index} * n_q + q;
+  Tensor<2, 3> grad_u;
+  for (unsigned int j = 0; j < w.component.size(); ++j)
+    grad_u[w.component[j]] +=
+        local[j] * (w.reference_gradient[std::size_t{w.base[j]} * n_q + q] * w.inverse_jacobian[k]);
+  return symmetrize(grad_u);
+}
+
+double ViscoelasticCondensation::stored_energy() const {
+  Impl& w = *impl_;
+  const unsigned int n_q = discretization_.cell_quadrature.size();
+  double energy = 0;
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    const unsigned int index = cell->active_cell_index();
+    const RegionStep& region = *cell_region_[index];
+    cell->get_dof_indices(w.dofs);
+    for (unsigned int j = 0; j < w.dofs.size(); ++j)
+      w.local[j] = solution_(w.dofs[j]);
+    const SymmetricTensor<2, 3>* h = history_.data() + cell_history_[index];
+    for (unsigned int q = 0; q < n_q; ++q) {
+      const SymmetricTensor<2, 3> eps = strain_at(index, q, w.local.data());
+      double density = 0.5 * (eps * (region.long_term * eps));
+      for (std::size_t i = 0; i < region.decay.size(); ++i, ++h)
+        density += 0.5 * inverse_product(*h, *h, region.shear[i], region.bulk[i]);
+      energy += density * w.jxw[std::size_t{index} * n_q + q];
+    }
+  }
+  return energy;
+}
+
+ViscoelasticCellFields ViscoelasticCondensation::cell_fields() const {
+  Impl& w = *impl_;
+  const unsigned int n_q = discretization_.cell_quadrature.size();
+  const unsigned int n_cells = triangulation_.n_active_cells();
+  std::size_t n_branches = 0;
+  for (const auto& [id, region] : regions_)
+    n_branches = std::max(n_branches, region.decay.size());
+  ViscoelasticCellFields fields;
+  fields.dissipated_energy_density.assign(n_cells, 0.0);
+  fields.von_mises.assign(n_cells, 0.0);
+  fields.overstress.assign(n_branches, std::vector<double>(n_cells, 0.0));
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    const unsigned int index = cell->active_cell_index();
+    const RegionStep& region = *cell_region_[index];
+    cell->get_dof_indices(w.dofs);
+    for (unsigned int j = 0; j < w.dofs.size(); ++j)
+      w.local[j] = solution_(w.dofs[j]);
+    const SymmetricTensor<2, 3>* h = history_.data() + cell_history_[index];
+    SymmetricTensor<2, 3> stress;
+    double volume = 0;
+    for (unsigned int q = 0; q < n_q; ++q) {
+      const double jxw = w.jxw[std::size_t{index} * n_q + q];
+      stress += (region.long_term * strain_at(index, q, w.local.data())) * jxw;
+      for (std::size_t i = 0; i < region.decay.size(); ++i, ++h) {
+        stress += *h * jxw;
+        fields.overstress[i][index] += h->norm() * jxw;
+      }
+      volume += jxw;
+    }
+    fields.dissipated_energy_density[index] = cell_dissipation_[index] / volume;
+    fields.von_mises[index] = von_mises(stress / volume);
+    for (std::size_t i = 0; i < n_branches; ++i)
+      fields.overstress[i][index] /= volume;
+  }
+  return fields;
 }
 
 SymmetricTensor<2, 3> ViscoelasticCondensation::mean_strain() const {

@@ -44,6 +44,17 @@ struct ViscoelasticCondensationParameters {
   void validate() const;
 };
 
+/// Per active cell (indexed by active_cell_index()), for output: written with the sole's .vtu.
+struct ViscoelasticCellFields {
+  /// Energy dissipated in the cell since rest, per unit (undeformed) volume, J/m^3.
+  std::vector<double> dissipated_energy_density;
+  /// Von Mises stress of the cell-mean stress sigma^n = C_inf : eps^n + sum_i h_i^n, Pa.
+  std::vector<double> von_mises;
+  /// overstress[i][cell]: cell mean of |h_i| (Frobenius norm of branch i's overstress, Pa);
+  /// 0 in regions with fewer than i + 1 branches. One entry per branch of the richest region.
+  std::vector<std::vector<double>> overstress;
+};
+
 /// Wall-clock seconds of the last advance() and of the set-up.
 struct ViscoelasticTimings {
   double assembly = 0;      ///< set-up: dofs, K_eff
@@ -107,6 +118,23 @@ public:
   /// Number of internal-variable tensors h_i stored (cells x quadrature points x branches).
   std::size_t n_internal_variables() const { return history_.size(); }
 
+  /// Energy dissipated by the branches' dashpots since rest (J): sum over steps, quadrature
+  /// points and branches of int_{t_n}^{t_n+1} h_i : C_i^-1 : h_i / tau_i dt, integrated in closed
+  /// form for the strain linear in time over the step (the assumption under which the recursive
+  /// update is exact). Accumulated by advance() without allocation.
+  double dissipated_energy() const { return dissipated_energy_; }
+  /// Energy dissipated per active cell since rest (J), indexed by active_cell_index().
+  const std::vector<double>& cell_dissipated_energy() const { return cell_dissipation_; }
+  /// Work of the contact forces on the sole since rest (J): sum over steps of the trapezoid
+  /// (f^n + f^{n+1}) / 2 . (u_c^{n+1} - u_c^n) (forces and displacements of advance()).
+  double external_work() const { return external_work_; }
+  /// Free energy stored at t_n (J): int 1/2 eps : C_inf : eps + sum_i 1/2 h_i : C_i^-1 : h_i
+  /// (every cell, elastic regions included). Loops over the cells; allocates nothing.
+  double stored_energy() const;
+  /// The cell fields at t_n (dissipated energy density, von Mises, overstress norms). Allocates
+  /// (output steps only).
+  ViscoelasticCellFields cell_fields() const;
+
   /// Volume average of the strain at t_n (homogeneous-strain tests).
   dealii::SymmetricTensor<2, 3> mean_strain() const;
 
@@ -115,8 +143,20 @@ private:
   // Per material id: the step's constants.
   struct RegionStep {
     dealii::SymmetricTensor<4, 3> effective;       // C_eff, Pa
+    dealii::SymmetricTensor<4, 3> long_term;       // C_inf, Pa
     std::vector<double> shear, bulk, decay, gamma; // G_i, K_i (Pa), e_i, gamma_i per branch
+    // Dissipation over one step of h(s) = a E + c (tau/dt)(1 - E), E = exp(-s/tau), a = h^n,
+    // c = C_i : (eps^{n+1} - eps^n): int h : C^-1 : h / tau ds = w_aa m(a,a) + w_ac m(a,c) +
+    // w_cc m(c,c), m(x,y) = x : C_i^-1 : y (dimensionless weights, s/tau integrated).
+    std::vector<double> w_aa, w_ac, w_cc;
   };
+  /// x : C_i^-1 : y for branch moduli G_i, K_i (a zero modulus: its part of h is zero).
+  static double inverse_product(const dealii::SymmetricTensor<2, 3>& x,
+                                const dealii::SymmetricTensor<2, 3>& y, double shear, double bulk);
+  /// Strain at quadrature point @p q of active cell @p index from the cell's dof values
+  /// @p local; uses the stored geometry (no allocation).
+  dealii::SymmetricTensor<2, 3> strain_at(unsigned int index, unsigned int q,
+                                          const double* local) const;
 
   void assemble_effective_stiffness();
   void store_geometry();
@@ -143,6 +183,9 @@ private:
 
   dealii::Vector<double> solution_, rhs_, history_force_, history_solution_;
   dealii::Vector<double> history_displacement_, contact_displacement_;
+  dealii::Vector<double> previous_forces_; // f^n (3 n_c), for the work's trapezoid
+  std::vector<double> cell_dissipation_;   // J per active cell
+  double dissipated_energy_ = 0, external_work_ = 0;
   double time_ = 0;
   ViscoelasticTimings timings_;
 };

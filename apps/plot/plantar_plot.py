@@ -222,6 +222,23 @@ def plot_sweep(plt, directory):
         axis.legend(fontsize=8)
         figure.tight_layout()
         made.append(save(figure, out, "sweep_time_step.png"))
+    # The relaxation-time axis (viscoelastic soles): criterion and dissipated energy against tau1.
+    taus = [i for i in ok if isinstance(table.get("tau1", [None] * n)[i], float)
+            and math.isfinite(table["tau1"][i])]
+    if taus:
+        figure, axes = plt.subplots(1, 2, figsize=(9, 3.8))
+        pts = sorted((table["tau1"][i], table[metric][i], table["sole_dissipated_energy"][i])
+                     for i in taus)
+        axes[0].semilogx([p[0] * 1e3 for p in pts], [p[1] for p in pts], "o-")
+        axes[0].set_ylabel(ylabel)
+        axes[1].semilogx([p[0] * 1e3 for p in pts], [p[2] for p in pts], "o-")
+        axes[1].set_ylabel("dissipated by the soles (J)")
+        for axis in axes:
+            axis.set_xlabel("relaxation time tau1 (ms)")
+            axis.grid(True, which="both", linewidth=0.3)
+        figure.suptitle("Viscoelastic sole: relaxation-time sweep", fontsize=10)
+        figure.tight_layout()
+        made.append(save(figure, out, "sweep_relaxation_time.png"))
     if not made:
         fail("'%s': no finished point to plot" % os.path.join(directory, "sweep.csv"))
     return made

@@ -11,7 +11,9 @@
 //    dt << tau; bounded (a few % of J_inf) for dt ~ tau; for dt >> tau the first step's
 //    strain is off by at most sum_i E_i tau_i / (dt E_inf) of J_inf (the branches still carry
 //    gamma_i E_i), then the long-term strain.
-//  - DMA: second order in w dt for E', E'', tan delta and the energy per cycle.
+//  - DMA: second order in w dt for E', E'', tan delta, the energy per cycle (stress-strain
+//    loop) and the dissipation accounted by the sole (closed form per step at the quadrature
+//    points).
 #include "viscoelastic_test_utilities.h"
 
 #include <gtest/gtest.h>
@@ -200,7 +202,10 @@ TEST(ViscoelasticBar, DynamicMechanicalAnalysis) {
         std::max(2, static_cast<int>(std::ceil(14.0 * prony.tau_max() / period)) + 1);
     const int n = periods * per_period;
     double sine = 0, cosine = 0, work = 0, previous_stress = 0, previous_strain = 0;
+    double dissipated_before = 0; // the sole's dissipation account at the last period's start
     for (int k = 1; k <= n; ++k) {
+      if (k == n - per_period + 1)
+        dissipated_before = bar.sole->dissipated_energy();
       const double t = k * dt, strain = eps0 * std::sin(w * t);
       const double stress = bar.step_strain(strain);
       if (k > n - per_period) {
@@ -226,6 +231,13 @@ TEST(ViscoelasticBar, DynamicMechanicalAnalysis) {
     EXPECT_LT(std::abs(tan_delta - tan_delta_exact) / tan_delta_exact, 0.5 * order);
     const double energy_exact = M_PI * loss_exact * eps0 * eps0 * volume;
     EXPECT_LT(std::abs(work - energy_exact) / energy_exact, 0.3 * order);
+    // The dashpots' dissipation, integrated at the quadrature points in closed form over each
+    // step (fem/viscoelastic_condensation.h): over a period, pi E'' eps0^2 V too.
+    const double dissipated = bar.sole->dissipated_energy() - dissipated_before;
+    EXPECT_LT(std::abs(dissipated - energy_exact) / energy_exact, 0.3 * order);
+    std::printf("DMA %7.1f Hz: dissipated by the branches over the period %.6e J, rel. error "
+                "%.1e\n",
+                frequency, dissipated, std::abs(dissipated - energy_exact) / energy_exact);
     std::printf("DMA %7.1f Hz: E' %.6e (exact %.6e) E'' %.6e (exact %.6e) tan d %.4f W %.4e J "
                 "(exact %.4e) rel errors %.1e %.1e %.1e, (w dt)^2 %.1e\n",
                 frequency, storage, storage_exact, loss, loss_exact, tan_delta, work, energy_exact,
