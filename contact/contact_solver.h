@@ -14,7 +14,9 @@
 // eta_k = 3 / trace(W_kk).
 //
 // solve() allocates nothing once resize() was called with max_contacts >= n_contacts and the
-// problem's rigid rank (tested with Eigen's malloc guard up to 250 contacts in one patch).
+// problem's rigid rank (tested with Eigen's malloc guard up to 250 contacts in one patch),
+// except Newton's sparse LU (NewtonLinearSolve::sparse), taken only for a general W stored
+// sparse (third-party problems, never the robot's).
 
 #include "contact/contact_problem.h"
 #include "contact/delassus_products.h"

@@ -75,8 +75,9 @@ public:
   /// Operation count of one iteration's factorisation by @p solve with every contact active
   /// (the sparse one: kSparseBlockCost per stored 3 x 3 block of W).
   static double iteration_cost(const ContactProblem& problem, NewtonLinearSolve solve);
-  /// Block density of W up to which automatic takes the sparse LU (measured on the fc3d
-  /// problems: sparse faster at 0.14 to 0.18, slower at 0.22 to 0.33; docs/contact_solvers.md).
+  /// Block density of W up to which automatic takes the sparse LU (a rough rule: the sparse LU
+  /// is 12 to 35x faster per iteration at densities 0.02 to 0.04, equal at 0.18, 2x slower at
+  /// 0.29 to 0.33; near 0.2 with n ~ 50 the fill decides, docs/contact_solvers.md).
   static constexpr double kSparseDensity = 0.2;
   /// Operations charged per stored block of W for a sparse LU (fill-in and overhead included;
   /// calibrated against Gauss-Seidel sweeps on Capsules and Confeti: 1,200 and 130).
