@@ -40,8 +40,9 @@ public:
     resize(max_contacts, rigid_rank, type);
   }
 
-  /// Sizes the workspaces of every solver type (memory ~ 360 max_contacts^2 bytes: ADMM's
-  /// factor and its copy, the direct solve's kept factors, Newton's W and Jacobian).
+  /// Sizes the workspaces of every solver type (memory ~ 430 max_contacts^2 bytes: ADMM's
+  /// factor and its copy, the direct solve's kept factors, Newton's W, Jacobian and Woodbury
+  /// workspace).
   void resize(int max_contacts, int rigid_rank);
   /// Sizes only what @p type needs (the direct solve, and gauss_seidel: GS's; admm: ADMM's
   /// ~144 N^2 bytes; newton: Newton's ~144 N^2 + 8 (3N + m)^2 bytes; automatic: GS's and
