@@ -21,7 +21,8 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     sweep_cost += 18.0 * patch.n_contacts * patch.n_contacts;
   if (!problem.general.empty())
     sweep_cost += 2.0 * static_cast<double>(problem.general.nonzeros());
-  const double newton_cost = 2.0 / 3.0 * 27.0 * n * n * n + 18.0 * n * n;
+  const double newton_cost =
+      SemismoothNewtonSolver::iteration_cost(problem, settings.newton_linear_solve);
   const double sweeps_worth_newton = settings.auto_newton_iterations * newton_cost / sweep_cost;
   constexpr int kWindow = 5;
   double window_residual[kWindow] = {};

@@ -8,7 +8,9 @@
 // settings.auto_newton_iterations Newton iterations, by operation counts:
 //   sweep  ~ 2 nnz(W rows) + 200 n     (general W: its entries; G G^T + patches: 12 n m +
 //                                       18 sum_j n_j^2),
-//   Newton ~ (2/3) (3n)^3 + 2 (3n)^2   (dense LU, all contacts active: an upper bound).
+//   Newton ~ SemismoothNewtonSolver::iteration_cost (its linear solve's factorisation, all
+//            contacts active: (2/3) (3n)^3 dense, the Woodbury count, 54 x the stored blocks of
+//            W for the sparse LU).
 // Otherwise (or at max_iterations sweeps, or on non-finite values) semismooth Newton takes over
 // from GS's iterate with its own budget of max_iterations. The result says which solver
 // finished, why and when it switched (SolverResult::finished_by, switch_reason,

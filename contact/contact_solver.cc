@@ -44,9 +44,28 @@ ContactSolver::ContactSolver() {
       break;
     iterative_.push_back(std::move(solver));
   }
+  sized_.assign(iterative_.size(), true); // all sized for no contact
 }
 
 void ContactSolver::resize(int max_contacts, int rigid_rank) {
+  resize(max_contacts, rigid_rank, ContactSolverType::gauss_seidel);
+  for (std::size_t type = 0; type < iterative_.size(); ++type)
+    if (!sized_[type]) {
+      iterative_[type]->resize(max_contacts, rigid_rank);
+      sized_[type] = true;
+    }
+}
+
+bool ContactSolver::reserved(ContactSolverType type) const {
+  const auto t = static_cast<std::size_t>(type);
+  if (t >= iterative_.size() || !sized_[t])
+    return false;
+  // automatic runs Gauss-Seidel and Newton.
+  return type != ContactSolverType::automatic ||
+         (reserved(ContactSolverType::gauss_seidel) && reserved(ContactSolverType::newton));
+}
+
+void ContactSolver::resize(int max_contacts, int rigid_rank, ContactSolverType type) {
   if (max_contacts < 0 || rigid_rank < 0) {
     std::ostringstream msg;
     msg << "ContactSolver::resize: max_contacts = " << max_contacts
@@ -57,8 +76,16 @@ void ContactSolver::resize(int max_contacts, int rigid_rank) {
   rigid_rank_ = rigid_rank;
   products_.resize(max_contacts, rigid_rank);
   sticking_.resize(max_contacts, rigid_rank);
-  for (auto& solver : iterative_)
-    solver->resize(max_contacts, rigid_rank);
+  const auto needed = [type](ContactSolverType t) {
+    return t == type || (type == ContactSolverType::automatic &&
+                         (t == ContactSolverType::gauss_seidel || t == ContactSolverType::newton));
+  };
+  sized_.assign(iterative_.size(), false);
+  for (std::size_t t = 0; t < iterative_.size(); ++t) {
+    sized_[t] = needed(static_cast<ContactSolverType>(t));
+    // The others' workspaces are released (sized for no contact).
+    iterative_[t]->resize(sized_[t] ? max_contacts : 0, sized_[t] ? rigid_rank : 0);
+  }
 }
 
 long ContactSolver::n_patch_factorizations() const {
@@ -90,6 +117,11 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
   if (type >= iterative_.size())
     throw std::invalid_argument("ContactSolver::solve: unknown SolverSettings::solver " +
                                 std::to_string(type));
+  if (!reserved(settings.solver))
+    throw std::invalid_argument(std::string("ContactSolver::solve: solver ") +
+                                to_string(settings.solver) +
+                                " has no workspace: this ContactSolver was sized for another "
+                                "type (resize(max_contacts, rigid_rank, type))");
   const int n = problem.n_contacts;
   if (n > max_contacts_ || problem.rigid_rank() != rigid_rank_ || impulses.size() < 3 * n) {
     std::ostringstream msg;

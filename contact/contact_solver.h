@@ -14,7 +14,9 @@
 // eta_k = 3 / trace(W_kk).
 //
 // solve() allocates nothing once resize() was called with max_contacts >= n_contacts and the
-// problem's rigid rank (tested with Eigen's malloc guard up to 250 contacts in one patch).
+// problem's rigid rank (tested with Eigen's malloc guard up to 250 contacts in one patch),
+// except Newton's sparse LU (NewtonLinearSolve::sparse), taken only for a general W stored
+// sparse (third-party problems, never the robot's).
 
 #include "contact/contact_problem.h"
 #include "contact/delassus_products.h"
@@ -34,10 +36,20 @@ public:
   ContactSolver(int max_contacts, int rigid_rank) : ContactSolver() {
     resize(max_contacts, rigid_rank);
   }
+  ContactSolver(int max_contacts, int rigid_rank, ContactSolverType type) : ContactSolver() {
+    resize(max_contacts, rigid_rank, type);
+  }
 
-  /// Sizes every workspace (memory ~ 360 max_contacts^2 bytes: ADMM's factor and its copy,
-  /// the direct solve's kept factors, Newton's W and Jacobian).
+  /// Sizes the workspaces of every solver type (memory ~ 430 max_contacts^2 bytes: ADMM's
+  /// factor and its copy, the direct solve's kept factors, Newton's W, Jacobian and Woodbury
+  /// workspace).
   void resize(int max_contacts, int rigid_rank);
+  /// Sizes only what @p type needs (the direct solve, and gauss_seidel: GS's; admm: ADMM's
+  /// ~144 N^2 bytes; newton: Newton's ~144 N^2 + 8 (3N + m)^2 bytes; automatic: GS's and
+  /// Newton's) and frees the others' workspaces: solve() with another type then throws.
+  void resize(int max_contacts, int rigid_rank, ContactSolverType type);
+  /// solve() accepts @p type (its workspace was sized by the last resize()).
+  bool reserved(ContactSolverType type) const;
   int max_contacts() const { return max_contacts_; }
 
   /// Solves @p problem. @param impulses (>= 3 n_contacts), N s: warm start on
@@ -81,6 +93,7 @@ private:
   StickingSolver sticking_;
   // One per ContactSolverType, in the enum's order (make_iterative_solver()).
   std::vector<std::unique_ptr<IterativeSolver>> iterative_;
+  std::vector<bool> sized_; // parallel to iterative_: workspace sized by the last resize()
   ResidualHistory history_;
 };
 

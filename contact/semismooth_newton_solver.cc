@@ -2,6 +2,8 @@
 
 #include "contact/coulomb_cone.h"
 #include "contact/dense_lu.h"
+#include "contact/sparse_newton_system.h"
+#include "contact/woodbury_newton_system.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,11 +19,14 @@ constexpr double kMinStep = 1e-10;  // smallest step length tried
 constexpr double kShortStep = 1e-4; // an accepted step shorter than this raises delta
 constexpr double kDeltaMin = 1e-12; // regularisation of J, bounds (J is dimensionless)
 constexpr double kDeltaMax = 1e-2;
-constexpr int kVelocityRefresh = 20; // u recomputed from r every this many iterations
+constexpr int kVelocityRefresh = 20;        // u recomputed from r every this many iterations
+constexpr double kLevenbergMarquardt = 1.0; // the regularisation floor's factor
 } // namespace
 
-void SemismoothNewtonSolver::resize(int max_contacts, int /*rigid_rank*/) {
+void SemismoothNewtonSolver::resize(int max_contacts, int rigid_rank) {
   const int n3 = 3 * max_contacts;
+  woodbury_.resize(max_contacts, rigid_rank);
+  apply_work_.setZero(std::max(n3, rigid_rank));
   delassus_.setZero(n3, n3);
   jacobian_.setZero(n3, n3);
   pivots_.setZero(n3);
@@ -134,6 +139,74 @@ void SemismoothNewtonSolver::evaluate(const ContactProblem& problem,
   }
 }
 
+NewtonLinearSolve SemismoothNewtonSolver::linear_solve_for(const ContactProblem& problem,
+                                                           NewtonLinearSolve requested) {
+  const bool sparse = SparseNewtonSystem::applicable(problem);
+  const bool woodbury = WoodburyNewtonSystem::applicable(problem);
+  switch (requested) {
+  case NewtonLinearSolve::dense:
+    return NewtonLinearSolve::dense;
+  case NewtonLinearSolve::sparse:
+    return sparse ? NewtonLinearSolve::sparse : NewtonLinearSolve::dense;
+  case NewtonLinearSolve::woodbury:
+    return woodbury ? NewtonLinearSolve::woodbury : NewtonLinearSolve::dense;
+  case NewtonLinearSolve::automatic:
+    break;
+  }
+  if (sparse && SparseNewtonSystem::block_density(problem) <= kSparseDensity)
+    return NewtonLinearSolve::sparse;
+  if (woodbury &&
+      WoodburyNewtonSystem::cost(problem) < iteration_cost(problem, NewtonLinearSolve::dense))
+    return NewtonLinearSolve::woodbury;
+  return NewtonLinearSolve::dense;
+}
+
+double SemismoothNewtonSolver::iteration_cost(const ContactProblem& problem,
+                                              NewtonLinearSolve solve) {
+  const double n = problem.n_contacts;
+  switch (linear_solve_for(problem, solve)) {
+  case NewtonLinearSolve::sparse:
+    return kSparseBlockCost * SparseNewtonSystem::block_density(problem) * n * n;
+  case NewtonLinearSolve::woodbury:
+    return WoodburyNewtonSystem::cost(problem);
+  default:
+    return 2.0 / 3.0 * 27.0 * n * n * n + 54.0 * n * n;
+  }
+}
+
+bool SemismoothNewtonSolver::solve_linear(const ContactProblem& problem, NewtonLinearSolve solve,
+                                          int n_active, double delta) {
+  const int m3 = 3 * n_active;
+  auto rhs = rhs_.head(m3);
+  if (solve == NewtonLinearSolve::sparse) {
+    if (!sparse_.factorize(active_.data(), n_active, a_blocks_, b_blocks_, delta))
+      return false;
+    sparse_.solve(rhs);
+    return true;
+  }
+  if (solve == NewtonLinearSolve::woodbury) {
+    if (!woodbury_.factorize(problem, active_.data(), n_active, a_blocks_, b_blocks_, delta))
+      return false;
+    woodbury_.solve(problem, rhs);
+    return true;
+  }
+  const int n3 = 3 * problem.n_contacts;
+  const auto w = delassus_.topLeftCorner(n3, n3);
+  auto jac = jacobian_.topLeftCorner(m3, m3);
+  for (int i = 0; i < n_active; ++i) {
+    const int ki = active_[i];
+    const Eigen::Matrix3d b = b_blocks_.middleCols<3>(3 * ki);
+    for (int j = 0; j < n_active; ++j)
+      jac.block<3, 3>(3 * i, 3 * j).noalias() = b * w.block<3, 3>(3 * ki, 3 * active_[j]);
+    jac.block<3, 3>(3 * i, 3 * i) += a_blocks_.middleCols<3>(3 * ki);
+  }
+  jac.diagonal().array() += delta;
+  if (!lu_in_place(jac, pivots_.head(m3)))
+    return false;
+  lu_solve_in_place(jac, pivots_.head(m3), rhs);
+  return true;
+}
+
 SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
                                            const SolverSettings& settings,
                                            Eigen::Ref<Eigen::VectorXd> p,
@@ -141,14 +214,21 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
                                            ResidualHistory& history) {
   const int n = problem.n_contacts, n3 = 3 * n;
   SolverResult result;
-  problem.assemble_delassus_into(delassus_);
-  const auto w = delassus_.topLeftCorner(n3, n3);
+  const NewtonLinearSolve linear = linear_solve_for(problem, settings.newton_linear_solve);
+  result.newton_linear_solve = linear;
+  if (linear == NewtonLinearSolve::dense)
+    problem.assemble_delassus_into(delassus_);
+  else if (linear == NewtonLinearSolve::sparse)
+    sparse_.prepare(problem);
   rho_.head(n) = products.eta.head(n);
   auto r = r_.head(n3);
   auto u = u_.head(n3);
   r = p.head(n3);
+  auto apply_w = [&](const Eigen::Ref<const Eigen::VectorXd>& x, Eigen::Ref<Eigen::VectorXd> out) {
+    problem.apply_delassus(x, apply_work_, out);
+  };
   auto refresh_velocity = [&]() {
-    u.noalias() = w * r;
+    apply_w(r, u);
     u += problem.free_velocity.head(n3);
   };
   // Projected onto the cones, with its velocity and residual: the returned iterate.
@@ -195,30 +275,31 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
         active_[n_active++] = k;
     }
     // W d for the separated part of the step.
-    w_step_.head(n3).noalias() = w * step_.head(n3);
+    apply_w(step_.head(n3), w_step_.head(n3));
+    // Levenberg-Marquardt floor of the regularisation: ||Phi|| / (||r|| + ||Phi||) (relative,
+    // dimensionless), large far from a solution, vanishing at the rate of ||Phi|| near one.
+    const double phi_norm = std::sqrt(2.0 * theta);
+    const double delta_floor =
+        std::min(kDeltaMax, kLevenbergMarquardt * phi_norm / (r.norm() + phi_norm + 1e-300));
     const int m3 = 3 * n_active;
     bool accepted = false;
     while (!accepted) {
       // (J_AA + delta I) d_A = -Phi_A - B_A W_AS d_S.
-      auto jac = jacobian_.topLeftCorner(m3, m3);
       for (int i = 0; i < n_active; ++i) {
         const int ki = active_[i];
-        const Eigen::Matrix3d b = b_blocks_.middleCols<3>(3 * ki);
-        for (int j = 0; j < n_active; ++j)
-          jac.block<3, 3>(3 * i, 3 * j).noalias() = b * w.block<3, 3>(3 * ki, 3 * active_[j]);
-        jac.block<3, 3>(3 * i, 3 * i) += a_blocks_.middleCols<3>(3 * ki);
-        rhs_.segment<3>(3 * i) = -phi_.segment<3>(3 * ki) - b * w_step_.segment<3>(3 * ki);
+        rhs_.segment<3>(3 * i) =
+            -phi_.segment<3>(3 * ki) - b_blocks_.middleCols<3>(3 * ki) * w_step_.segment<3>(3 * ki);
       }
-      jac.diagonal().array() += delta;
       if (m3 > 0) {
-        if (!lu_in_place(jac, pivots_.head(m3))) {
+        if (!solve_linear(problem, linear, n_active, std::max(delta, delta_floor))) {
+          if (delta >= kDeltaMax)
+            return finish(true); // singular even at the largest regularisation
           delta = std::min(100.0 * delta, kDeltaMax);
           continue;
         }
-        lu_solve_in_place(jac, pivots_.head(m3), rhs_.head(m3));
         for (int i = 0; i < n_active; ++i)
           step_.segment<3>(3 * active_[i]) = rhs_.segment<3>(3 * i);
-        w_step_.head(n3).noalias() = w * step_.head(n3);
+        apply_w(step_.head(n3), w_step_.head(n3));
       }
       // Non-monotone Armijo on 0.5 ||Phi||^2 (directional derivative -||Phi||^2 for the exact
       // Newton step).

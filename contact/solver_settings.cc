@@ -97,6 +97,20 @@ const char* to_string(SwitchReason reason) {
   return "unknown";
 }
 
+const char* to_string(NewtonLinearSolve solve) {
+  switch (solve) {
+  case NewtonLinearSolve::automatic:
+    return "auto";
+  case NewtonLinearSolve::dense:
+    return "dense";
+  case NewtonLinearSolve::sparse:
+    return "sparse";
+  case NewtonLinearSolve::woodbury:
+    return "woodbury";
+  }
+  return "unknown";
+}
+
 void throw_if_not_converged(const SolverResult& result, const SolverSettings& settings,
                             const std::string& context) {
   if (result.converged())

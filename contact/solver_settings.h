@@ -12,6 +12,15 @@ enum class ContactSolverType {
   automatic,    ///< Gauss-Seidel while it converges fast, then Newton (auto_solver.h)
 };
 
+/// How semismooth Newton solves its linear system (J_AA + delta I) d_A = -Phi_A - ... each
+/// iteration (semismooth_newton_solver.h). All give the same step up to round-off.
+enum class NewtonLinearSolve {
+  automatic, ///< the cheapest by operation counts (NewtonLinearCost, semismooth_newton_solver.h)
+  dense,     ///< dense LU of J_AA (any W)
+  sparse,    ///< sparse LU of the block-sparse J_AA (a general W stored sparse, no G, no patches)
+  woodbury,  ///< per-patch LU plus a Schur system of size 3 n_rigid + m (W = G G^T + patches)
+};
+
 /// Why ContactSolverType::automatic left Gauss-Seidel for Newton.
 enum class SwitchReason {
   none,    ///< no switch: Gauss-Seidel finished (or another solver was chosen)
@@ -71,6 +80,9 @@ struct SolverSettings {
   double auto_switch_sweeps = 100.0;
   /// Automatic: Newton iterations expected after a switch, in the cost comparison. Range [1, inf).
   double auto_newton_iterations = 20.0;
+  /// Newton (and automatic): the linear solve of each iteration; a form the problem does not
+  /// have (sparse without a sparse general W, woodbury with one) falls back to dense.
+  NewtonLinearSolve newton_linear_solve = NewtonLinearSolve::automatic;
 
   /// Throws std::invalid_argument naming the field, its value and the allowed range.
   void validate() const;
@@ -119,6 +131,8 @@ struct SolverResult {
   SwitchReason switch_reason = SwitchReason::none;
   int switch_iteration = 0;
   double switch_rate = 0.0;
+  /// Newton: the linear solve it used (never automatic after a Newton iteration).
+  NewtonLinearSolve newton_linear_solve = NewtonLinearSolve::automatic;
   bool converged() const { return status == SolverStatus::converged; }
 };
 
@@ -126,6 +140,7 @@ const char* to_string(SolverStatus status);
 const char* to_string(ContactSolverType type);
 const char* to_string(DirectAttempt attempt);
 const char* to_string(SwitchReason reason);
+const char* to_string(NewtonLinearSolve solve);
 
 /// Throws std::runtime_error with solver, status, iterations, residual and
 /// tolerance unless @p result converged. @p context names the caller (e.g. "step 120").

@@ -75,7 +75,7 @@ void Stepper::resize_workspaces() {
     patch.lever_map.setZero(6, rank);
     patch.lever_map_valid = false;
   }
-  solver_.resize(max, rank);
+  solver_.resize(max, rank, parameters_.solver.solver);
   gap_.setZero(points_.size());
   v_before_.setZero(points_.size());
   lever_.assign(points_.size(), Eigen::Vector3d::Zero());

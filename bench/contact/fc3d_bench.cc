@@ -2,10 +2,13 @@
 // FrictionContactProblem files.
 //
 //   fc3d_bench [--tolerance 1e-8] [--max-iterations 10000] [--newton-iterations 500]
-//              [--solvers gs,admm,newton,auto,nsgs,nsn_ac] FILE.dat...
+//              [--solvers gs,admm,newton,auto,nsgs,nsn_ac] [--newton-linear auto] FILE.dat...
 //
 // --max-iterations caps GS, ADMM, auto (each of its phases) and NSGS; --newton-iterations caps
 // Plantar's Newton and Siconos's NSN_AC.
+//
+// --newton-linear (auto, dense, sparse, woodbury) picks the linear solve of Plantar's Newton (and
+// auto's Newton phase); the note says which one ran.
 //
 // Prints one line per problem and solver: problem, contacts, solver, iterations, seconds, the
 // error measure of Siconos (fc3d_compute_error, computed by Siconos) and status. Plantar's
@@ -35,10 +38,10 @@ struct Row {
 };
 
 Row run_plantar(const SiconosProblem& source, const SiconosOracle& oracle, ContactSolverType type,
-                double tolerance, int max_iterations) {
-  const Fc3dSolve solve =
-      solve_to_tolerance(source, type, tolerance, max_iterations,
-                         [&](const Eigen::VectorXd& r) { return oracle.error(r); });
+                double tolerance, int max_iterations, NewtonLinearSolve linear) {
+  const Fc3dSolve solve = solve_to_tolerance(
+      source, type, tolerance, max_iterations,
+      [&](const Eigen::VectorXd& r) { return oracle.error(r); }, linear);
   Row row;
   row.iterations = solve.iterations;
   row.seconds = solve.seconds;
@@ -51,6 +54,9 @@ Row run_plantar(const SiconosProblem& source, const SiconosOracle& oracle, Conta
          << " rate=" << solve.last.switch_rate;
     row.note = note.str();
   }
+  if (solve.last.finished_by == ContactSolverType::newton)
+    row.note += (row.note.empty() ? "" : " ") + std::string("linear=") +
+                to_string(solve.last.newton_linear_solve);
   return row;
 }
 } // namespace
@@ -60,6 +66,7 @@ int main(int argc, char** argv) {
   int max_iterations = 10000;
   int newton_iterations = 500; // Newton-type solvers (newton, nsn_ac): an iteration costs more
   std::string solvers = "gs,admm,newton,auto,nsgs,nsn_ac";
+  NewtonLinearSolve linear = NewtonLinearSolve::automatic;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -71,10 +78,27 @@ int main(int argc, char** argv) {
       newton_iterations = std::atoi(argv[++i]);
     else if (arg == "--solvers" && i + 1 < argc)
       solvers = argv[++i];
-    else if (!arg.empty() && arg[0] == '-') {
+    else if (arg == "--newton-linear" && i + 1 < argc) {
+      const std::string name = argv[++i];
+      bool known = false;
+      for (const auto option : {NewtonLinearSolve::automatic, NewtonLinearSolve::dense,
+                                NewtonLinearSolve::sparse, NewtonLinearSolve::woodbury})
+        if (name == to_string(option)) {
+          linear = option;
+          known = true;
+        }
+      if (!known) {
+        std::fprintf(stderr,
+                     "fc3d_bench: --newton-linear %s, allowed auto, dense, sparse, "
+                     "woodbury\n",
+                     name.c_str());
+        return 1;
+      }
+    } else if (!arg.empty() && arg[0] == '-') {
       std::fprintf(stderr,
                    "usage: fc3d_bench [--tolerance t] [--max-iterations n] [--newton-iterations n] "
-                   "[--solvers gs,admm,newton,auto,nsgs,nsn_ac] FILE.dat...\n");
+                   "[--solvers gs,admm,newton,auto,nsgs,nsn_ac] "
+                   "[--newton-linear auto|dense|sparse|woodbury] FILE.dat...\n");
       return 2;
     } else
       files.push_back(arg);
@@ -105,7 +129,8 @@ int main(int argc, char** argv) {
                                        : solver == "newton" ? ContactSolverType::newton
                                                             : ContactSolverType::automatic;
         row = run_plantar(source, oracle, type, tolerance,
-                          type == ContactSolverType::newton ? newton_iterations : max_iterations);
+                          type == ContactSolverType::newton ? newton_iterations : max_iterations,
+                          linear);
       }
       std::printf("%-34s %6d %-8s %8d %10.4g %10.3g %-15s %s\n", name.c_str(), source.n_contacts,
                   solver.c_str(), row.iterations, row.seconds, row.error, row.status.c_str(),

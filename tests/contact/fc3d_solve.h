@@ -29,7 +29,8 @@ struct Fc3dSolve {
 
 inline Fc3dSolve solve_to_tolerance(const SiconosProblem& source, ContactSolverType type,
                                     double tolerance, int max_iterations,
-                                    const std::function<double(const Eigen::VectorXd&)>& error) {
+                                    const std::function<double(const Eigen::VectorXd&)>& error,
+                                    NewtonLinearSolve linear = NewtonLinearSolve::automatic) {
   ContactProblem problem;
   pose_problem(source, problem);
   ContactSolver solver(problem.n_contacts, 0);
@@ -37,6 +38,7 @@ inline Fc3dSolve solve_to_tolerance(const SiconosProblem& source, ContactSolverT
   settings.solver = type;
   settings.max_iterations = max_iterations;
   settings.warm_start = false;
+  settings.newton_linear_solve = linear;
   settings.tolerance = tolerance * std::max(source.q.norm(), 1e-300) /
                        std::sqrt(static_cast<double>(std::max(1, problem.n_contacts)));
   Fc3dSolve out;

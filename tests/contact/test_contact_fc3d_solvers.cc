@@ -2,8 +2,8 @@
 // measure with Plantar's automatic choice and semismooth Newton: the error computed by Siconos
 // itself (fc3d_compute_error) and by our own implementation (same number). Where W is positive
 // definite (smallest eigenvalue of its symmetric part > 1e-8 of the largest) the solution is
-// compared with Siconos's semismooth Newton (NSN_AC) solution. Newton alone is not run on
-// KaplasTower (it does not converge from zero there, like NSN_AC).
+// compared with Siconos's semismooth Newton (NSN_AC) solution. Newton alone, from zero, solves
+// all of them, KaplasTower included (where Siconos's NSN_AC does not).
 #include "tests/contact/fc3d_files.h"
 #include "tests/contact/fc3d_solve.h"
 #include "tests/contact/siconos_format.h"
@@ -36,20 +36,16 @@ TEST_P(Fc3dSolvers, AutoAndNewtonReachTheToleranceOfSiconosMeasure) {
     reference = oracle.solve(504 /* SICONOS_FRICTION_3D_NSN_AC */, 1e-12, 5000);
   for (const ContactSolverType type : {ContactSolverType::automatic, ContactSolverType::newton}) {
     SCOPED_TRACE(to_string(type));
-    // Newton from zero does not converge on KaplasTower (nor does Siconos's NSN_AC: error 3e-3
-    // after 300 iterations, docs/contact_solvers.md); auto solves it (GS) and is checked.
-    if (type == ContactSolverType::newton && GetParam().rfind("KaplasTower", 0) == 0)
-      continue;
     const Fc3dSolve solve = solve_to_tolerance(source, type, kTolerance, 10000, ours);
     const double siconos_error = oracle.error(solve.r);
     const double difference =
         unique ? (solve.r - reference.r).norm() / std::max(reference.r.norm(), 1e-300) : -1.0;
-    std::printf("%-30s %-7s %6d it %8.4f s error %.2e (Siconos %.2e) finished by %s (%s@%d)"
+    std::printf("%-30s %-7s %6d it %8.4f s error %.2e (Siconos %.2e) finished by %s (%s@%d, %s)"
                 " unique %d |r - r_NSN|/|r_NSN| %.1e (NSN_AC error %.1e)\n",
                 GetParam().c_str(), to_string(type), solve.iterations, solve.seconds, solve.error,
                 siconos_error, to_string(solve.last.finished_by),
-                to_string(solve.last.switch_reason), solve.last.switch_iteration, unique,
-                difference, reference.error);
+                to_string(solve.last.switch_reason), solve.last.switch_iteration,
+                to_string(solve.last.newton_linear_solve), unique, difference, reference.error);
     EXPECT_LE(siconos_error, kTolerance);
     EXPECT_LE(solve.error, kTolerance);
     EXPECT_NEAR(solve.error, siconos_error, 1e-10 * siconos_error + 1e-15);

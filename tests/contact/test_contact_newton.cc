@@ -3,9 +3,12 @@
 #include "contact/contact_solver.h"
 #include "contact/dense_lu.h"
 #include "contact/semismooth_newton_solver.h"
+#include "contact/sparse_newton_system.h"
 #include "contact/symmetry.h"
+#include "contact/woodbury_newton_system.h"
 #include "tests/contact/random_problem.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
 #include <random>
@@ -35,6 +38,209 @@ pc::ContactProblem general_problem(int n, unsigned seed, double skew = 0.0) {
     problem.friction[k] = 0.5 + 0.3 * unit(rng);
   problem.general.set_dense(w);
   return problem;
+}
+
+// Plantar's form on n contacts: G (m columns), patch blocks (SPD, rotated) on [0, 12) and
+// [14, 26), the other contacts rigid.
+pc::ContactProblem two_patch_problem(int n, int m, unsigned seed) {
+  pc::ContactProblem problem = plantar::contact::test::random_problem(n, m, 12, 0.5, seed);
+  pc::CompliantPatch second = problem.patches[0];
+  second.first_contact = 14;
+  second.compliance_over_dt *= 2.0;
+  second.rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1.0, 2.0, 3.0).normalized());
+  problem.patches.push_back(second);
+  return problem;
+}
+
+// A block-sparse general W: contact k coupled to k +- 1 and k +- 7 (SPD: B B^T + 0.05 I with
+// B block-banded), stored sparse.
+pc::ContactProblem sparse_problem(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3 * n, 3 * n);
+  for (int k = 0; k < n; ++k)
+    for (const int l : {k, k + 1, k + 7})
+      if (l < n)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j)
+            b(3 * k + i, 3 * l + j) = unit(rng);
+  const Eigen::MatrixXd w =
+      b * b.transpose() / 3.0 + 0.05 * Eigen::MatrixXd::Identity(3 * n, 3 * n);
+  pc::ContactProblem problem;
+  problem.resize(n, 0);
+  problem.n_contacts = n;
+  for (int i = 0; i < 3 * n; ++i)
+    problem.free_velocity[i] = unit(rng) - (i % 3 == 0 ? 0.3 : 0.0);
+  for (int k = 0; k < n; ++k)
+    problem.friction[k] = 0.5 + 0.3 * unit(rng);
+  problem.general.set_sparse(w.sparseView());
+  return problem;
+}
+
+// The Woodbury/Schur and sparse systems against a dense LU (Eigen's) of J_AA + delta I built
+// from the generalized Jacobian of evaluate(), at random points (active sets of all kinds).
+TEST(NewtonLinearSolve, WoodburyAndSparseSolveTheDenseSystem) {
+  for (int form = 0; form < 2; ++form) {
+    const pc::ContactProblem problem =
+        form == 0 ? two_patch_problem(30, 30, 41) : sparse_problem(30, 42);
+    const int n = problem.n_contacts, n3 = 3 * n;
+    pc::SemismoothNewtonSolver newton;
+    newton.resize(n, problem.rigid_rank());
+    pc::WoodburyNewtonSystem woodbury;
+    woodbury.resize(n, problem.rigid_rank());
+    pc::SparseNewtonSystem sparse;
+    if (form == 1)
+      sparse.prepare(problem);
+    Eigen::MatrixXd w;
+    problem.assemble_delassus(w);
+    Eigen::VectorXd rho(n);
+    for (int k = 0; k < n; ++k)
+      rho[k] = 3.0 / w.block<3, 3>(3 * k, 3 * k).trace();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    int n_rigid_active = 0;
+    for (int trial = 0; trial < 10; ++trial) {
+      Eigen::VectorXd r(n3), phi(n3), rhs(n3);
+      for (int i = 0; i < n3; ++i) {
+        r[i] = unit(rng) + (i % 3 == 0 ? 0.3 : 0.0);
+        rhs[i] = unit(rng);
+      }
+      Eigen::MatrixXd jacobian(n3, n3), a_blocks(3, n3), b_blocks(3, n3);
+      newton.evaluate(problem, r, rho, phi, jacobian);
+      const Eigen::VectorXd u = w * r + problem.free_velocity.head(n3);
+      std::vector<int> active;
+      for (int k = 0; k < n; ++k) {
+        Eigen::Vector3d phik;
+        Eigen::Matrix3d a, b;
+        if (!pc::SemismoothNewtonSolver::contact_function(r.segment<3>(3 * k), u.segment<3>(3 * k),
+                                                          problem.friction[k], rho[k], phik, &a,
+                                                          &b)) {
+          active.push_back(k);
+          n_rigid_active += form == 0 && (k == 12 || k == 13 || k >= 26);
+        }
+        a_blocks.middleCols<3>(3 * k) = a;
+        b_blocks.middleCols<3>(3 * k) = b;
+      }
+      const int na = static_cast<int>(active.size());
+      const double delta = trial % 2 == 0 ? 1e-12 : 1e-3;
+      Eigen::MatrixXd jaa(3 * na, 3 * na);
+      for (int i = 0; i < na; ++i)
+        for (int l = 0; l < na; ++l)
+          jaa.block<3, 3>(3 * i, 3 * l) = jacobian.block<3, 3>(3 * active[i], 3 * active[l]);
+      jaa.diagonal().array() += delta;
+      const Eigen::VectorXd b = rhs.head(3 * na);
+      const Eigen::VectorXd reference = jaa.partialPivLu().solve(b);
+      Eigen::VectorXd x = b;
+      if (form == 0) {
+        ASSERT_TRUE(woodbury.factorize(problem, active.data(), na, a_blocks, b_blocks, delta));
+        woodbury.solve(problem, x);
+      } else {
+        ASSERT_TRUE(sparse.factorize(active.data(), na, a_blocks, b_blocks, delta));
+        sparse.solve(x);
+      }
+      EXPECT_LT((x - reference).norm(), 1e-9 * reference.norm())
+          << "form " << form << " trial " << trial << " active " << na;
+      EXPECT_LT((jaa * x - b).norm(), 1e-10 * jaa.norm() * x.norm());
+    }
+    if (form == 0) {
+      EXPECT_GT(n_rigid_active, 5); // the Schur system's rigid rows were exercised
+    } else {
+      EXPECT_LE(sparse.n_analyses(), 10);
+      EXPECT_GE(sparse.n_analyses(), 2);
+    }
+  }
+}
+
+// The same Newton iterates whichever linear solve: iteration count, residual history and
+// solution to round-off (well-conditioned problems: W positive definite).
+TEST(NewtonLinearSolve, SameIteratesAsTheDenseLu) {
+  for (int form = 0; form < 2; ++form) {
+    const pc::ContactProblem problem =
+        form == 0 ? two_patch_problem(30, 30, 43) : sparse_problem(40, 44);
+    const pc::NewtonLinearSolve other =
+        form == 0 ? pc::NewtonLinearSolve::woodbury : pc::NewtonLinearSolve::sparse;
+    const int n = problem.n_contacts;
+    pc::ContactSolver solver(n, problem.rigid_rank(), pc::ContactSolverType::newton);
+    solver.record_history(100);
+    pc::SolverSettings settings;
+    settings.solver = pc::ContactSolverType::newton;
+    settings.tolerance = 1e-12;
+    settings.warm_start = false;
+    settings.max_iterations = 100;
+    Eigen::VectorXd p_dense = Eigen::VectorXd::Zero(3 * n), p_other = p_dense;
+    settings.newton_linear_solve = pc::NewtonLinearSolve::dense;
+    const pc::SolverResult dense = solver.solve(problem, settings, p_dense);
+    const Eigen::VectorXd history = solver.history();
+    settings.newton_linear_solve = other;
+    const pc::SolverResult result = solver.solve(problem, settings, p_other);
+    ASSERT_TRUE(dense.converged());
+    ASSERT_TRUE(result.converged());
+    EXPECT_EQ(dense.newton_linear_solve, pc::NewtonLinearSolve::dense);
+    EXPECT_EQ(result.newton_linear_solve, other);
+    EXPECT_EQ(result.iterations, dense.iterations) << "form " << form;
+    ASSERT_EQ(solver.history().size(), history.size());
+    for (Eigen::Index i = 0; i + 1 < history.size(); ++i) // the last is below round-off
+      EXPECT_NEAR(solver.history()[i], history[i], 1e-6 * history[i] + 1e-12 * history[0])
+          << "iteration " << i + 1;
+    EXPECT_LT((p_other - p_dense).norm(), 1e-10 * p_dense.norm()) << "form " << form;
+    EXPECT_GT(dense.iterations, 3);
+  }
+}
+
+// automatic picks the sparse LU for a sparse W of low block density, Woodbury for two large
+// patches under a small rigid factor, dense otherwise; a form that does not apply falls back.
+TEST(NewtonLinearSolve, AutomaticChoiceFollowsTheForm) {
+  using pc::NewtonLinearSolve;
+  const auto choice = pc::SemismoothNewtonSolver::linear_solve_for;
+  const pc::ContactProblem sparse = sparse_problem(60, 45); // blocks: ~5/60 of the pairs
+  EXPECT_EQ(choice(sparse, NewtonLinearSolve::automatic), NewtonLinearSolve::sparse);
+  EXPECT_EQ(choice(sparse, NewtonLinearSolve::woodbury), NewtonLinearSolve::dense);
+  pc::ContactProblem dense_w = sparse;
+  dense_w.general.set_dense(Eigen::MatrixXd(sparse.general.sparse()));
+  EXPECT_EQ(choice(dense_w, NewtonLinearSolve::automatic), NewtonLinearSolve::dense);
+  EXPECT_EQ(choice(dense_w, NewtonLinearSolve::sparse), NewtonLinearSolve::dense);
+  // Two soles of 63 and 394 nodes under m = 40: Woodbury; one rigid contact set: dense.
+  pc::ContactProblem soles;
+  soles.resize(457, 40);
+  soles.n_contacts = 457;
+  for (const auto& [first, count] : {std::pair{0, 63}, std::pair{63, 394}}) {
+    pc::CompliantPatch patch;
+    patch.first_contact = first;
+    patch.n_contacts = count;
+    soles.patches.push_back(patch);
+  }
+  EXPECT_EQ(choice(soles, NewtonLinearSolve::automatic), NewtonLinearSolve::woodbury);
+  EXPECT_LT(pc::SemismoothNewtonSolver::iteration_cost(soles, NewtonLinearSolve::automatic),
+            0.8 * pc::SemismoothNewtonSolver::iteration_cost(soles, NewtonLinearSolve::dense));
+  soles.patches.clear();
+  EXPECT_EQ(choice(soles, NewtonLinearSolve::automatic), NewtonLinearSolve::dense);
+}
+
+// A ContactSolver sized for one type holds only that type's workspaces and refuses the others.
+TEST(ContactSolverWorkspace, OnlyTheChosenTypeIsSized) {
+  const pc::ContactProblem problem = general_problem(6, 51);
+  pc::ContactSolver solver(6, 0, pc::ContactSolverType::gauss_seidel);
+  EXPECT_TRUE(solver.reserved(pc::ContactSolverType::gauss_seidel));
+  EXPECT_FALSE(solver.reserved(pc::ContactSolverType::newton));
+  EXPECT_FALSE(solver.reserved(pc::ContactSolverType::automatic));
+  pc::SolverSettings settings;
+  settings.solver = pc::ContactSolverType::gauss_seidel;
+  settings.max_iterations = 2000;
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(18);
+  EXPECT_TRUE(solver.solve(problem, settings, p).converged());
+  settings.solver = pc::ContactSolverType::newton;
+  try {
+    solver.solve(problem, settings, p);
+    FAIL() << "newton has no workspace";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("newton has no workspace"), std::string::npos) << e.what();
+  }
+  solver.resize(6, 0, pc::ContactSolverType::automatic);
+  EXPECT_TRUE(solver.reserved(pc::ContactSolverType::newton));
+  EXPECT_FALSE(solver.reserved(pc::ContactSolverType::admm));
+  EXPECT_TRUE(solver.solve(problem, settings, p).converged());
+  solver.resize(6, 0); // every type
+  EXPECT_TRUE(solver.reserved(pc::ContactSolverType::admm));
 }
 
 TEST(DenseLu, SolvesLikeEigensPartialPivLu) {

@@ -77,12 +77,17 @@ TEST(ContactNoMalloc, NewtonAndAutoDoNotAllocate) {
         pc::SolverSettings settings;
         settings.solver = type;
         settings.warm_start = warm;
+        // Newton's linear solve: the Woodbury/Schur form, automatic (dense here) for auto.
+        settings.newton_linear_solve = type == pc::ContactSolverType::newton
+                                           ? pc::NewtonLinearSolve::woodbury
+                                           : pc::NewtonLinearSolve::automatic;
         settings.max_iterations = 3000;
         Eigen::internal::set_is_malloc_allowed(false);
         const pc::SolverResult r = solver.solve(problem, settings, impulses);
         Eigen::internal::set_is_malloc_allowed(true);
-        std::printf("n = %d, %s, warm %d: status %s, %d iterations, residual %.2e\n", n,
-                    pc::to_string(type), warm, pc::to_string(r.status), r.iterations, r.residual);
+        std::printf("n = %d, %s, warm %d: status %s, %d iterations, residual %.2e, linear %s\n", n,
+                    pc::to_string(type), warm, pc::to_string(r.status), r.iterations, r.residual,
+                    pc::to_string(r.newton_linear_solve));
         EXPECT_TRUE(r.converged());
       }
   }
