@@ -6,14 +6,13 @@
 
 namespace plantar::app {
 
-/// Creates @p directory and removes from it (not from its subdirectories, except the two named)
+/// Removes from @p directory, if it exists, (not from its subdirectories, except the two named)
 /// what an earlier run left that the new one would not overwrite as a whole: first the marks of
 /// a finished run (summary.csv, which `plantar sweep` takes for a finished point, summary.txt,
 /// failure.txt), then the steps of a failed run (failed/), the ParaView series (vtk/ and *.pvd,
 /// whose frame counts may differ) and the temporary files of killed runs (*.tmp-<pid>,
 /// fem/atomic_file.h). Other files are kept (parameters.prm, the CSVs and log.txt are
-/// rewritten whole by the new run). Throws std::runtime_error naming the directory if it
-/// cannot be created.
+/// rewritten whole by the new run).
 void prepare_output_directory(const std::filesystem::path& directory);
 
 } // namespace plantar::app

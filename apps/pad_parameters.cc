@@ -49,7 +49,8 @@ void PadParameters::declare(dealii::ParameterHandler& prm) {
     prm.declare_entry("Link", "", Anything(),
                       "Link carrying the pad (a link of Robot/URDF file); empty: no pad.");
     prm.declare_entry("Name", "", Anything(),
-                      "Name in outputs (CSV columns, .vtu files); empty: pad_<slot>.");
+                      "Name in outputs (CSV columns, .vtu files): letters, digits, '_', '-'; "
+                      "empty: pad_<slot>.");
     prm.declare_entry("Geometry file", d.description.geometry_file.string(), Anything(),
                       "gmsh .geo of the pad: physical surfaces 'top' (fixed on the link) and "
                       "'bottom' (contact), one physical volume per material region; relative "
@@ -93,6 +94,11 @@ void PadParameters::parse(dealii::ParameterHandler& prm,
     pad.name = prm.get("Name");
     if (pad.name.empty())
       pad.name = "pad_" + std::to_string(slot + 1);
+    // The name becomes CSV column names and file names.
+    if (pad.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                   "0123456789_-") != std::string::npos)
+      throw std::invalid_argument(section + "/Name = '" + pad.name +
+                                  "': allowed characters are letters, digits, '_' and '-'");
     pad.geometry_file = fem::resolve_path(prm.get("Geometry file"), scene_directory);
     pad.mesh_numbers = parse_mesh_numbers(prm.get("Mesh numbers"), section + "/Mesh numbers");
     pad.materials = prm.get("Materials");

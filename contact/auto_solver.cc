@@ -82,8 +82,22 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     return gs;
   }
   history.offset = sweeps;
-  SolverResult result =
-      newton_.solve(problem, settings, p, products, StartProducts::build, history);
+  // Half of Newton's budget from Gauss-Seidel's iterate, the rest for a restart from zero.
+  chunk = settings;
+  chunk.max_iterations = std::max(1, settings.max_iterations / 2);
+  SolverResult result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
+  if (!result.converged() && result.status != SolverStatus::non_finite &&
+      result.iterations < settings.max_iterations) {
+    // Newton from Gauss-Seidel's iterate can stall where Newton from zero converges (redundant
+    // contacts of compliant ankles): one restart from zero with the rest of Newton's budget.
+    const int first = result.iterations;
+    chunk = settings;
+    chunk.max_iterations = settings.max_iterations - first;
+    p.head(n3).setZero();
+    history.offset = sweeps + first;
+    result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
+    result.iterations += first;
+  }
   history.offset = 0;
   result.finished_by = ContactSolverType::newton;
   result.switch_reason = reason;

@@ -256,6 +256,9 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
   double theta = merit(problem, r, u, phi_);
   merits_.setConstant(theta);
   double delta = kDeltaMin;
+  // The Levenberg-Marquardt floor below is engaged from the first short or rejected step on:
+  // where full steps are taken it would only slow the final convergence.
+  bool floor_engaged = false;
   for (int it = 1; it <= settings.max_iterations; ++it) {
     result.iterations = it;
     // Phi's Jacobian blocks; separated contacts leave the system (d_k = -r_k).
@@ -280,7 +283,9 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
     // dimensionless), large far from a solution, vanishing at the rate of ||Phi|| near one.
     const double phi_norm = std::sqrt(2.0 * theta);
     const double delta_floor =
-        std::min(kDeltaMax, kLevenbergMarquardt * phi_norm / (r.norm() + phi_norm + 1e-300));
+        floor_engaged
+            ? std::min(kDeltaMax, kLevenbergMarquardt * phi_norm / (r.norm() + phi_norm + 1e-300))
+            : 0.0;
     const int m3 = 3 * n_active;
     bool accepted = false;
     while (!accepted) {
@@ -322,11 +327,14 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
           delta = std::max(0.1 * delta, kDeltaMin);
         else if (t < kShortStep)
           delta = std::min(10.0 * delta, kDeltaMax);
+        if (t < kShortStep)
+          floor_engaged = true;
         r += t * step_.head(n3);
         u += t * w_step_.head(n3);
         accepted = true;
       } else {
         delta = std::min(100.0 * delta, kDeltaMax);
+        floor_engaged = true;
         if (m3 == 0)
           break;
       }

@@ -1,11 +1,13 @@
 #include "fem/mesh_generator.h"
 
 #include <array>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace plantar::fem {
@@ -68,7 +70,9 @@ std::filesystem::path generate_mesh(const MeshRequest& request) {
 
   std::filesystem::create_directories(request.cache_directory);
   const std::filesystem::path tmp = msh.string() + ".tmp-" + std::to_string(::getpid()) + ".msh";
-  const std::string command = shell_quote(request.gmsh_executable) + " " +
+  std::ostringstream limit;
+  limit << "timeout -s KILL " << request.time_limit << " ";
+  const std::string command = limit.str() + shell_quote(request.gmsh_executable) + " " +
                               shell_quote(request.geo_file.string()) + " -3 -format msh22 -v 2" +
                               setnumbers.str() + " -o " + shell_quote(tmp.string());
   std::string output;
@@ -76,6 +80,14 @@ std::filesystem::path generate_mesh(const MeshRequest& request) {
   // gmsh reports .geo syntax errors but may still exit 0: treat "Error" lines as failure.
   const bool has_error = output.find("Error") != std::string::npos;
   std::error_code ignored;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGKILL) {
+    std::filesystem::remove(tmp, ignored);
+    std::ostringstream msg;
+    msg << "mesh: gmsh did not finish '" << request.geo_file.string() << "' within "
+        << request.time_limit
+        << " s: are its dimensions far larger than its mesh sizes (a .geo in mm, not m)?";
+    throw std::runtime_error(msg.str());
+  }
   if (status != 0 || has_error || !std::filesystem::exists(tmp)) {
     std::filesystem::remove(tmp, ignored);
     throw std::runtime_error("mesh: gmsh failed on '" + request.geo_file.string() +

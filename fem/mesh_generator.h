@@ -14,12 +14,14 @@ struct MeshRequest {
   std::map<std::string, double> numbers; ///< gmsh -setnumber NAME VALUE
   std::filesystem::path cache_directory; ///< where generated .msh files live
   std::string gmsh_executable = "gmsh";
+  double time_limit = 300; ///< s of wall time gmsh may take (coreutils timeout)
 };
 
 /// Returns the path of an MSH 2.2 file meshed from the request (3D mesh),
 /// generating it with the gmsh executable if it is not in the cache yet.
 /// Throws std::runtime_error naming the .geo file and gmsh's message if the
-/// file is missing or gmsh fails or produces no elements.
+/// file is missing or gmsh fails, produces no elements or runs past the time
+/// limit (a geometry far larger than its mesh sizes: a .geo in mm, say).
 std::filesystem::path generate_mesh(const MeshRequest& request);
 
 } // namespace plantar::fem

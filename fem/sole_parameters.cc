@@ -3,6 +3,7 @@
 #include "fem/hyperelastic_material_table.h"
 #include "fem/material_table.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <sstream>
 #include <stdexcept>
@@ -27,6 +28,10 @@ double positive(dealii::ParameterHandler& prm, const std::string& name) {
   return value;
 }
 
+/// Cells a mesh of the sole's box may have (a dense condensed operator of its bottom face is
+/// out of reach long before).
+constexpr double kMaxSoleCells = 2e6;
+
 } // namespace
 
 void SoleParameters::declare(dealii::ParameterHandler& prm) {
@@ -34,10 +39,12 @@ void SoleParameters::declare(dealii::ParameterHandler& prm) {
                     "gmsh .geo source of the sole (physical surfaces 'top', 'bottom'; one "
                     "physical volume per material region). Relative to the scene file, then to "
                     "the Plantar source tree.");
-  prm.declare_entry("Length", "0.2172", Double(0), "Sole length along x (m), > 0.");
-  prm.declare_entry("Width", "0.138", Double(0), "Sole width along y (m), > 0.");
-  prm.declare_entry("Thickness", "0.020", Double(0), "Sole thickness along z (m), > 0.");
-  prm.declare_entry("Mesh size", "0.008", Double(0), "Target element edge length (m), > 0.");
+  prm.declare_entry("Length", "0.2172", Double(0, 2), "Sole length along x (m), (0, 2].");
+  prm.declare_entry("Width", "0.138", Double(0, 2), "Sole width along y (m), (0, 2].");
+  prm.declare_entry("Thickness", "0.020", Double(0, 0.5), "Sole thickness along z (m), (0, 0.5].");
+  prm.declare_entry("Mesh size", "0.008", Double(0, 0.5),
+                    "Target element edge length (m), (0, 0.5]; at most 2e6 cells in the sole's "
+                    "box (Length x Width x Thickness / Mesh size^3).");
   prm.declare_entry("Cell kind", "tetrahedron", Selection("tetrahedron|hexahedron"),
                     "Tetrahedra (P elements) or hexahedra (Q elements).");
   prm.declare_entry("Element degree", "1", Integer(1, 2), "1 (P1/Q1) or 2 (P2/Q2).");
@@ -82,6 +89,16 @@ void SoleParameters::parse(dealii::ParameterHandler& prm,
   width = positive(prm, "Width");
   thickness = positive(prm, "Thickness");
   mesh_size = positive(prm, "Mesh size");
+  const double cells = std::ceil(length / mesh_size) * std::ceil(width / mesh_size) *
+                       std::ceil(thickness / mesh_size);
+  if (!(cells <= kMaxSoleCells)) {
+    std::ostringstream msg;
+    msg << "Sole/Mesh size = " << mesh_size << " m gives about " << cells << " cells for a sole of "
+        << length << " x " << width << " x " << thickness
+        << " m (Length x Width x Thickness / Mesh size^3): allowed up to " << kMaxSoleCells
+        << "; use a coarser mesh";
+    throw std::invalid_argument(msg.str());
+  }
   cell_kind = prm.get("Cell kind") == "hexahedron" ? CellKind::hexahedron : CellKind::tetrahedron;
   degree = prm.get_integer("Element degree");
   materials = prm.get("Materials");

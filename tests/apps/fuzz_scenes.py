@@ -337,9 +337,11 @@ def main():
     parser.add_argument("--cases", type=int, default=200)
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--time-limit", type=float, default=120)
+    parser.add_argument("--time-limit", type=float, default=400,
+                        help="s per case (gmsh stops itself at 300 s)")
     parser.add_argument("--only", type=int, help="run only this case index")
     parser.add_argument("--keep", action="store_true", help="keep the case directories")
+    parser.add_argument("--log", help="append one line per case (kind, outcome, problems) here")
     args = parser.parse_args()
     args.source = pathlib.Path(args.source).resolve()
     args.scenes = sorted(p for p in (args.source / "scenes").rglob("*.prm")
@@ -353,6 +355,9 @@ def main():
         for kind, outcome, problems, label, seconds in pool.map(lambda i: run_case(args, i),
                                                                  indices):
             table[kind][outcome] += 1
+            if args.log:
+                with open(args.log, "a") as log:
+                    log.write(f"{kind}\t{outcome}\t{seconds:.1f}\t{label}\t{'; '.join(problems)}\n")
             if problems:
                 table[kind]["failed"] += 1
                 failed.append(label + ": " + "; ".join(problems))

@@ -9,7 +9,9 @@
 #include <deal.II/grid/grid_tools.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 namespace plantar::fem {
@@ -126,6 +128,25 @@ TEST(MeshErrors, BrokenGeoNamesFile) {
   // No half-written mesh is left in the cache.
   for (const auto& entry : std::filesystem::directory_iterator(testing::test_cache_dir()))
     EXPECT_EQ(entry.path().string().find("broken"), std::string::npos) << entry.path();
+}
+
+// A sole 1000 times too large for its mesh size (a .geo in mm read as m): gmsh is stopped at
+// the time limit, the error names the .geo and nothing is left in the cache.
+TEST(MeshErrors, TimeLimitNamesFile) {
+  MeshRequest request = sole_request("sole_box.geo", 0.002, false);
+  request.numbers["SoleLength"] = 1000 * L;
+  request.numbers["SoleWidth"] = 1000 * W;
+  request.time_limit = 1;
+  const auto start = std::chrono::steady_clock::now();
+  const std::string message = error_of([&] { generate_mesh(request); });
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("after %.2f s: %s\n", seconds, message.c_str());
+  EXPECT_LT(seconds, 10.0);
+  EXPECT_NE(message.find("sole_box.geo"), std::string::npos);
+  EXPECT_NE(message.find("within 1 s"), std::string::npos);
+  for (const auto& entry : std::filesystem::directory_iterator(testing::test_cache_dir()))
+    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
 }
 
 TEST(MeshErrors, MissingGeoNamesFile) {
