@@ -215,9 +215,9 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
     for (int i = 0; i < s.validity.size(); ++i) {
       const ValidityRecord& r = s.validity.record(i);
       out << r.limit.key << "_peak," << r.peak << "\n"
-          << r.limit.key << "_warning_steps," << r.n_warning_steps << "\n"
-          << r.limit.key << "_first_warning_time,"
-          << (r.warned() ? r.first_warning_time : std::numeric_limits<double>::quiet_NaN()) << "\n";
+          << r.limit.key << "_warning_steps," << r.n_warning_steps << "\n";
+      if (r.warned()) // no row without a warning (no NaN in outputs)
+        out << r.limit.key << "_first_warning_time," << r.first_warning_time << "\n";
     }
   });
 }

@@ -374,14 +374,17 @@ void ControlParameters::parse(dealii::ParameterHandler& prm) {
 
 void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
   const walking::WalkingParameters d;
-  prm.declare_entry("Single support time", "0.78", Double(0), "s (HRP-2: 0.78).");
-  prm.declare_entry("Double support time", "0.02", Double(0), "s, between steps (HRP-2: 0.02).");
-  prm.declare_entry("Initial double support time", "0.6", Double(0),
-                    "s, ZMP from the feet centre to the first support foot.");
-  prm.declare_entry("Final double support time", "0.62", Double(0),
-                    "s, ZMP back to the feet centre.");
-  prm.declare_entry("Standing before", "1.0", Double(0), "s, standing still before the walk.");
-  prm.declare_entry("Standing after", "1.0", Double(0), "s, standing still after the walk.");
+  prm.declare_entry("Single support time", "0.78", Double(0, 10), "s, [0, 10] (HRP-2: 0.78).");
+  prm.declare_entry("Double support time", "0.02", Double(0, 10),
+                    "s, between steps, [0, 10] (HRP-2: 0.02).");
+  prm.declare_entry("Initial double support time", "0.6", Double(0, 10),
+                    "s, ZMP from the feet centre to the first support foot, [0, 10].");
+  prm.declare_entry("Final double support time", "0.62", Double(0, 10),
+                    "s, ZMP back to the feet centre, [0, 10].");
+  prm.declare_entry("Standing before", "1.0", Double(0, 60),
+                    "s, standing still before the walk, [0, 60].");
+  prm.declare_entry("Standing after", "1.0", Double(0, 60),
+                    "s, standing still after the walk, [0, 60].");
   prm.declare_entry("Step height", "0.07", Double(0, 0.3), "Swing-foot apex (m).");
   prm.declare_entry("Max step length", "0.45", Double(0), "Longest swing travel allowed (m).");
   prm.declare_entry("Right foot first", "true", Bool(), "The right foot swings first.");
@@ -390,7 +393,8 @@ void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Footsteps", footsteps_text(d.footsteps), Anything(),
                     "Landing placements of the successive swing feet (alternating), "
                     "'x, y, yaw; x, y, yaw; ...' (m, m, rad); default: the paper's six steps.");
-  prm.declare_entry("Preview time", "1.6", Double(0), "Preview horizon (s), Kajita 2003.");
+  prm.declare_entry("Preview time", "1.6", Double(0, 10),
+                    "Preview horizon (s), [0, 10], Kajita 2003.");
 }
 
 void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {

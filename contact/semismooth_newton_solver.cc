@@ -21,6 +21,7 @@ constexpr double kDeltaMin = 1e-12; // regularisation of J, bounds (J is dimensi
 constexpr double kDeltaMax = 1e-2;
 constexpr int kVelocityRefresh = 20;        // u recomputed from r every this many iterations
 constexpr double kLevenbergMarquardt = 1.0; // the regularisation floor's factor
+constexpr int kFloorAfter = 10;             // iterations after which the floor is engaged anyway
 } // namespace
 
 void SemismoothNewtonSolver::resize(int max_contacts, int rigid_rank) {
@@ -256,11 +257,13 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
   double theta = merit(problem, r, u, phi_);
   merits_.setConstant(theta);
   double delta = kDeltaMin;
-  // The Levenberg-Marquardt floor below is engaged from the first short or rejected step on:
-  // where full steps are taken it would only slow the final convergence.
+  // The Levenberg-Marquardt floor below is engaged from the first short or rejected step, or
+  // after kFloorAfter iterations, on: where full steps converge it would only slow them.
   bool floor_engaged = false;
   for (int it = 1; it <= settings.max_iterations; ++it) {
     result.iterations = it;
+    if (it > kFloorAfter)
+      floor_engaged = true;
     // Phi's Jacobian blocks; separated contacts leave the system (d_k = -r_k).
     int n_active = 0;
     for (int k = 0; k < n; ++k) {

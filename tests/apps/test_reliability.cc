@@ -227,11 +227,7 @@ TEST(Reliability, ShippedScenesUseAutoAndTheStrictFailureResidual) {
     if (scene.type == SceneType::static_sole || scene.robot.urdf_file.empty())
       continue;
     ++n_scenes;
-    // kestrel's walk: 1000 x (with compliant ankles one solve ends at 2.8e-7 m/s after auto's
-    // Newton and its restart, docs/reliability.md).
-    const bool kestrel_walk =
-        entry.path().filename() == "walk.prm" && entry.path().parent_path().filename() == "kestrel";
-    const double factor = kestrel_walk ? 1000 : ContactParameters::default_failure_factor;
+    const double factor = ContactParameters::default_failure_factor;
     EXPECT_EQ(scene.contact.solver, contact::ContactSolverType::automatic) << entry.path();
     EXPECT_DOUBLE_EQ(scene.contact.failure_residual, factor * scene.contact.tolerance)
         << entry.path();
