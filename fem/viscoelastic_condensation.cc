@@ -81,6 +81,14 @@ struct ViscoelasticCondensation::Impl {
   std::vector<double> local;
   Vector<double> cell_force;
 
+  /// local = the solution's values at @p cell's dofs (dofs holds their indices).
+  template <class CellIterator>
+  void gather(const CellIterator& cell, const Vector<double>& solution) {
+    cell->get_dof_indices(dofs);
+    for (unsigned int j = 0; j < dofs.size(); ++j)
+      local[j] = solution(dofs[j]);
+  }
+
   ~Impl() {
     if (numeric)
       umfpack_dl_free_numeric(&numeric);
@@ -374,9 +382,7 @@ void ViscoelasticCondensation::update_history() {
     const std::size_t n_branches = region.decay.size();
     if (n_branches == 0)
       continue; // elastic region: no history
-    cell->get_dof_indices(w.dofs);
-    for (unsigned int j = 0; j < n_dofs_cell; ++j)
-      w.local[j] = solution_(w.dofs[j]);
+    w.gather(cell, solution_);
     w.cell_force = 0;
     SymmetricTensor<2, 3>* h = history_.data() + cell_history_[index];
     SymmetricTensor<2, 3>* strain = strain_.data() + std::size_t{index} * n_q;
@@ -466,9 +472,7 @@ double ViscoelasticCondensation::stored_energy() const {
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     const unsigned int index = cell->active_cell_index();
     const RegionStep& region = *cell_region_[index];
-    cell->get_dof_indices(w.dofs);
-    for (unsigned int j = 0; j < w.dofs.size(); ++j)
-      w.local[j] = solution_(w.dofs[j]);
+    w.gather(cell, solution_);
     const SymmetricTensor<2, 3>* h = history_.data() + cell_history_[index];
     for (unsigned int q = 0; q < n_q; ++q) {
       const SymmetricTensor<2, 3> eps = strain_at(index, q, w.local.data());
@@ -495,9 +499,7 @@ ViscoelasticCellFields ViscoelasticCondensation::cell_fields() const {
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     const unsigned int index = cell->active_cell_index();
     const RegionStep& region = *cell_region_[index];
-    cell->get_dof_indices(w.dofs);
-    for (unsigned int j = 0; j < w.dofs.size(); ++j)
-      w.local[j] = solution_(w.dofs[j]);
+    w.gather(cell, solution_);
     const SymmetricTensor<2, 3>* h = history_.data() + cell_history_[index];
     SymmetricTensor<2, 3> stress;
     double volume = 0;

@@ -4,48 +4,18 @@
 // (a swing sole lifted, recovering and landing again). As tests/apps/test_humanoid_allocation.cc
 // for the other foot forms.
 #include "apps/humanoid_simulation.h"
+#include "tests/allocation_counter.h"
 #include "tests/apps/humanoid_test_utilities.h"
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstdio>
-#include <cstdlib>
-#include <new>
-
-// The replacements below pair malloc with free; GCC cannot see that and warns.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<long> n_allocations{0};
-} // namespace
-
-void* operator new(std::size_t size) {
-  if (counting.load())
-    ++n_allocations;
-  if (void* p = std::malloc(size ? size : 1))
-    return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  return operator new(size);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::size_t) noexcept {
-  std::free(p);
-}
 
 namespace plantar::app {
 namespace {
+
+using plantar::testing::counting;
+using plantar::testing::n_allocations;
 
 TEST(ViscoelasticAllocation, StepAllocatesNothing) {
   for (const char* type : {"stand", "walk"}) {
