@@ -90,13 +90,24 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
       result.iterations < settings.max_iterations) {
     // Newton from Gauss-Seidel's iterate can stall where Newton from zero converges (redundant
     // contacts of compliant ankles): one restart from zero with the rest of Newton's budget.
-    const int first = result.iterations;
+    const SolverResult first = result;
+    first_attempt_.head(n3) = p.head(n3);
     chunk = settings;
-    chunk.max_iterations = settings.max_iterations - first;
+    chunk.max_iterations = settings.max_iterations - first.iterations;
     p.head(n3).setZero();
-    history.offset = sweeps + first;
+    history.offset = sweeps + first.iterations;
     result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
-    result.iterations += first;
+    result.iterations += first.iterations;
+    if (!result.converged() && !(result.residual < first.residual)) {
+      // The restart did no better: the first attempt's impulses, their products rebuilt.
+      p.head(n3) = first_attempt_.head(n3);
+      products.compute_velocity(problem, p);
+      for (const CompliantPatch& patch : problem.patches) // for ContactSolver::patch_product()
+        products.compute_patch_product(patch, p);
+      const int iterations = result.iterations;
+      result = first;
+      result.iterations = iterations;
+    }
   }
   history.offset = 0;
   result.finished_by = ContactSolverType::newton;

@@ -16,8 +16,11 @@
 // finished, why and when it switched (SolverResult::finished_by, switch_reason,
 // switch_iteration, switch_rate); iterations counts GS sweeps plus Newton iterations.
 //
-// It runs the facade's own GaussSeidelSolver and SemismoothNewtonSolver (no workspace of its
-// own); solve() allocates nothing.
+// When Newton from Gauss-Seidel's iterate has not converged within half its budget, Newton
+// restarts from zero with the rest; the better of the two attempts (by residual) is returned.
+//
+// It runs the facade's own GaussSeidelSolver and SemismoothNewtonSolver; its own workspace is
+// the first attempt's impulses (3 max_contacts). solve() allocates nothing.
 
 #include "contact/gauss_seidel_solver.h"
 #include "contact/iterative_solver.h"
@@ -30,7 +33,9 @@ public:
   /// @p gauss_seidel and @p newton must outlive this and be resized with it.
   AutoSolver(GaussSeidelSolver& gauss_seidel, SemismoothNewtonSolver& newton)
       : gauss_seidel_(gauss_seidel), newton_(newton) {}
-  void resize(int /*max_contacts*/, int /*rigid_rank*/) override {}
+  void resize(int max_contacts, int /*rigid_rank*/) override {
+    first_attempt_.setZero(3 * max_contacts);
+  }
   SolverResult solve(const ContactProblem& problem, const SolverSettings& settings,
                      Eigen::Ref<Eigen::VectorXd> impulses, DelassusProducts& products,
                      StartProducts start, ResidualHistory& history) override;
@@ -38,6 +43,7 @@ public:
 private:
   GaussSeidelSolver& gauss_seidel_;
   SemismoothNewtonSolver& newton_;
+  Eigen::VectorXd first_attempt_; ///< Newton's first attempt's impulses, N s
 };
 
 } // namespace plantar::contact

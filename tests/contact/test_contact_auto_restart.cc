@@ -1,0 +1,64 @@
+// A contact problem no solver here finishes in 1,000 iterations: three collinear contacts of a
+// rigid heel (step 1222 of a shortened HRP-2 walk, written by the stepper in Siconos's format:
+// tests/contact/data/rigid_walk_collinear_heel.dat). W (9 x 9) has rank 5 and the normal biases
+// are not compatible with the collinear contacts, so the solution has a contact near the cone's
+// apex; Siconos's NSGS stalls at an error of 1.1e-7 and its NSN_AC ends at 2e-3 after 500
+// iterations. Plantar's auto runs Newton from Gauss-Seidel's iterate (half the budget), then
+// from zero (the rest), and must return the better of the two attempts: the restart diverges
+// here (residual 0.022 m/s) while the first attempt ends below the scenes' failure threshold
+// (10 x the tolerance). Checked with Siconos's own error measure and our dense residual.
+#include "contact/contact_solver.h"
+#include "tests/contact/siconos_format.h"
+#include "tests/contact/siconos_oracle.h"
+
+#include <cstdio>
+#include <gtest/gtest.h>
+
+namespace plantar::contact::testing {
+namespace {
+
+TEST(AutoRestart, ReturnsTheBetterOfNewtonsTwoAttempts) {
+  const std::string path =
+      std::string(PLANTAR_SOURCE_DIR) + "/tests/contact/data/rigid_walk_collinear_heel.dat";
+  const SiconosProblem source = read_siconos_problem(path);
+  const SiconosOracle oracle(path);
+  ContactProblem problem;
+  pose_problem(source, problem);
+  ASSERT_EQ(problem.n_contacts, 3);
+  ContactSolver solver(problem.n_contacts, 0);
+  SolverSettings settings;
+  settings.tolerance = 1e-8; // m/s, as the walk scenes
+  settings.max_iterations = 1000;
+  settings.warm_start = true;
+  // The walk's warm start (the previous step's impulses), as the stepper passed it.
+  Eigen::VectorXd warm(9);
+  warm << 0, 0, 0, 1.8960278555659282, 0.27784323395448285, 0.44609584806987934, 0, 0, 0;
+
+  // Newton alone from zero with the restart's budget: the attempt auto must not return.
+  settings.solver = ContactSolverType::newton;
+  settings.warm_start = false;
+  Eigen::VectorXd from_zero = Eigen::VectorXd::Zero(9);
+  const SolverResult newton = solver.solve(problem, settings, from_zero);
+  settings.warm_start = true;
+
+  settings.solver = ContactSolverType::automatic;
+  Eigen::VectorXd r = warm;
+  const SolverResult result = solver.solve(problem, settings, r);
+  const Eigen::VectorXd u = source.dense_w() * r + source.q;
+  const double dense = fc3d_error(source.dense_w(), source.q, source.mu, r);
+  std::printf("Newton from zero: %d it, residual %.3e m/s; auto: %d it (%s@%d), residual %.3e "
+              "m/s, Siconos error %.3e, ours %.3e, min u_n %.3e m/s\n",
+              newton.iterations, newton.residual, result.iterations,
+              to_string(result.switch_reason), result.switch_iteration, result.residual,
+              oracle.error(r), dense, u(Eigen::seqN(0, 3, 3)).minCoeff());
+  EXPECT_EQ(result.finished_by, ContactSolverType::newton);
+  EXPECT_GT(newton.residual, 1e-4); // the restart's path fails on this problem
+  EXPECT_LT(result.residual, 10 * settings.tolerance);
+  // The returned impulses are the ones the residual was measured on (not the restart's).
+  EXPECT_NEAR(oracle.error(r), dense, 1e-12);
+  EXPECT_LT(dense, 1e-6);
+  EXPECT_LT(result.residual, 1e-3 * newton.residual);
+}
+
+} // namespace
+} // namespace plantar::contact::testing
