@@ -63,6 +63,7 @@ void PointProcesses::start(int index, const fs::path& directory) {
     if (!launcher_variable(*e))
       env.push_back(*e);
   env.push_back(nullptr);
+  const std::string no_exec = "plantar: error: cannot run '" + exe + "'\n";
   const pid_t parent = ::getpid();
   std::fflush(stdout);
   std::fflush(stderr);
@@ -80,8 +81,7 @@ void PointProcesses::start(int index, const fs::path& directory) {
       ::close(fd);
     }
     ::execve(exe.c_str(), const_cast<char* const*>(argv), env.data());
-    const char message[] = "plantar: error: cannot run the plantar binary\n";
-    [[maybe_unused]] const auto n = ::write(STDERR_FILENO, message, sizeof message - 1);
+    [[maybe_unused]] const auto n = ::write(STDERR_FILENO, no_exec.data(), no_exec.size());
     ::_exit(127);
   }
   running_[pid] = {index, directory};

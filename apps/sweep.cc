@@ -8,16 +8,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fcntl.h>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace plantar::app {
 

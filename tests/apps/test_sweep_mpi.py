@@ -14,6 +14,8 @@
              ranks: the points finished before the rerun keep their summary.csv untouched
              (same inode and mtime), the rerun computes exactly the missing ones (each reported
              once), and the final sweep.csv equals the serial one (loop_wall_time aside).
+             Also: a sweep process SIGKILLed alone (not its process group) takes its running
+             points' processes with it.
 Exit status 0 on success, 1 with the failed checks listed.
 """
 import argparse
@@ -176,6 +178,34 @@ def finished_points(out):
     return marks
 
 
+def alive(pid):
+    """Whether process @p pid runs (a zombie does not)."""
+    try:
+        return pathlib.Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except (OSError, IndexError):
+        return False
+
+
+def orphans(sweep, out):
+    """The sweep process alone (not its process group) SIGKILLed while its points run: the
+    points' processes end too (PR_SET_PDEATHSIG), as when a launcher kills only the rank."""
+    process = subprocess.Popen(sweep.command(out, 0, jobs=2), stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL, start_new_session=True)
+    deadline = time.time() + 60
+    points = []
+    while time.time() < deadline and len(points) < 2:
+        time.sleep(0.02)
+        points = [pid for pid in children(process.pid) if alive(pid)]
+    check(len(points) == 2, f"sweep -j 2: {len(points)} point processes running, expected 2")
+    os.kill(process.pid, signal.SIGKILL)
+    process.wait()
+    time.sleep(0.5)
+    left = [pid for pid in points if alive(pid)]
+    check(not left, f"point processes {left} outlived their sweep")
+    for pid in left:
+        os.kill(pid, signal.SIGKILL)
+
+
 def kill(args, work):
     rng = random.Random(args.seed)
     scene = work / "kill.prm"
@@ -217,6 +247,7 @@ def kill(args, work):
         print(f"{label}: {len(now)} of {len(ids)} points finished")
     marks = finished_points(out)
     missing = sorted(set(ids) - set(marks))
+    orphans(sweep, work / "orphans")
     check(missing, "every point finished before the kills: the test checks no resume")
     r = sweep.run(out, 2)
     check(r.returncode == 0, f"rerun after the kills: exit {r.returncode}: {r.stderr}")
