@@ -291,9 +291,9 @@ int main(int argc, char** argv) {
   }
   const std::string command = args[0];
   args.erase(args.begin());
-  // MPI only for the sweep (mpirun -np N plantar sweep); its points' runs never initialise it.
+  // MPI only for a sweep started by mpirun or srun; its points' runs never initialise it.
   std::optional<app::MpiSession> mpi;
-  if (command == "sweep")
+  if (command == "sweep" && app::launched_by_mpi())
     mpi.emplace(argc, argv);
   try {
     if (command == "run")

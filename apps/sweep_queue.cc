@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <stdexcept>
 #include <thread>
@@ -47,6 +48,10 @@ std::pair<int, std::string> split(const std::string& text) {
   return {std::stoi(text.substr(0, newline)), text.substr(newline + 1)};
 }
 
+/// Whether run_points_on_ranks has begun: from then on the other ranks are stopped by the queue
+/// (or the job aborted), never by stop_sweep_workers.
+bool queue_started = false;
+
 [[noreturn]] void abort_job(const std::string& message) {
   std::cerr << "plantar: error: sweep (rank " << sweep_rank() << "): " << message << std::endl;
   MPI_Abort(MPI_COMM_WORLD, 1);
@@ -54,6 +59,13 @@ std::pair<int, std::string> split(const std::string& text) {
 }
 
 } // namespace
+
+bool launched_by_mpi() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK"})
+    if (std::getenv(name))
+      return true;
+  return false;
+}
 
 MpiSession::MpiSession(int& argc, char**& argv) {
   MPI_Init(&argc, &argv);
@@ -82,6 +94,9 @@ int sweep_ranks() {
 }
 
 void stop_sweep_workers(int status) {
+  if (queue_started)
+    return;
+  queue_started = true; // once
   for (int rank = 1; rank < sweep_ranks(); ++rank)
     MPI_Send(&status, 1, MPI_INT, rank, stop, MPI_COMM_WORLD);
 }
@@ -89,6 +104,7 @@ void stop_sweep_workers(int status) {
 void run_points_on_ranks(const std::vector<fs::path>& directories, int jobs,
                          const fs::path& executable,
                          const std::function<void(const FinishedPoint&)>& on_finished) {
+  queue_started = true;
   try {
     PointProcesses local(executable, jobs);
     const int n = static_cast<int>(directories.size());

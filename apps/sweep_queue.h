@@ -14,6 +14,12 @@
 
 namespace plantar::app {
 
+/// Whether this process was started by an MPI launcher (mpirun, mpiexec, srun): one of
+/// OMPI_COMM_WORLD_SIZE (Open MPI), PMIX_RANK (PMIx) or PMI_RANK (PMI-1/2, MPICH, Slurm) is set.
+/// Without a launcher the sweep does not initialise MPI (a singleton MPI_Init would start a
+/// daemon for nothing).
+bool launched_by_mpi();
+
 /// MPI_Init on construction, MPI_Finalize on destruction (one per process).
 class MpiSession {
 public:
@@ -50,8 +56,9 @@ void run_points_on_ranks(const std::vector<std::filesystem::path>& directories, 
 /// handing out points and printed the error). Errors on this rank abort the job.
 int run_sweep_worker(int jobs, const std::filesystem::path& executable);
 
-/// Rank 0, on an error before run_points_on_ranks: tells every other rank to exit with
-/// @p status without a message (rank 0 prints it once).
+/// Rank 0, on an error: tells every other rank to exit with @p status without a message (rank 0
+/// prints it once). Does nothing once run_points_on_ranks has begun (its end has stopped the
+/// other ranks already) or on a second call.
 void stop_sweep_workers(int status);
 
 } // namespace plantar::app

@@ -186,6 +186,14 @@ def alive(pid):
         return False
 
 
+def is_point(pid):
+    """Whether process @p pid is a `plantar run` (a sweep point)."""
+    try:
+        return b"\0run\0" in pathlib.Path(f"/proc/{pid}/cmdline").read_bytes()
+    except OSError:
+        return False
+
+
 def orphans(sweep, out):
     """The sweep process alone (not its process group) SIGKILLed while its points run: the
     points' processes end too (PR_SET_PDEATHSIG), as when a launcher kills only the rank."""
@@ -195,7 +203,7 @@ def orphans(sweep, out):
     points = []
     while time.time() < deadline and len(points) < 2:
         time.sleep(0.02)
-        points = [pid for pid in children(process.pid) if alive(pid)]
+        points = [pid for pid in children(process.pid) if alive(pid) and is_point(pid)]
     check(len(points) == 2, f"sweep -j 2: {len(points)} point processes running, expected 2")
     os.kill(process.pid, signal.SIGKILL)
     process.wait()
