@@ -6,8 +6,10 @@
              three sweep.csv are byte-identical but for the loop_wall_time column (each point
              is the same `plantar run` of the same scene file, and rank 0 writes the rows in
              grid order whatever rank ran them); each point is reported once per sweep, by
-             more than one rank. A bad scene at 3 ranks: exit status 1, its message printed
-             once, no output directory.
+             more than one rank. A sweep with a failing point (E = 10 kPa sole under a 30 cm
+             drop) at 2 ranks: the worker rank writes the serial sweep's failure.txt (its
+             path aside), sweep.csv is the serial one, exit status 1. A bad scene at 3 ranks:
+             exit status 1, its message printed once, no output directory.
   kill       a sweep of 12 drops at 3 ranks, SIGKILLed at a random moment after its first
              finished point (one worker rank, then in a second round rank 0), each time
              followed by a check that no point process outlived its rank; then rerun at 2
@@ -48,6 +50,22 @@ subsection Simulation
 end
 subsection Sweep
   set Time steps = {steps}
+end
+"""
+
+FAILING = """include {source}/scenes/drop.prm
+subsection Robot
+  set Foot form = fem sole
+end
+subsection Sole
+  set Mesh size = 0.05
+end
+subsection Simulation
+  set Duration = 0.3
+  set Release height = 0.3
+end
+subsection Sweep
+  set Young's moduli = 4e6, 1e4
 end
 """
 
@@ -118,6 +136,29 @@ def identical(args, work):
               f"{label}: points ran on ranks {sorted(ranks_used)}")
         check(r.stdout.count("outputs in") == 1 and r.stdout.count("sweep: ") == 2,
               f"{label}: rank 0 alone prints: {r.stdout}")
+
+    # A failing point run by a worker rank: E = 10 kPa soles under a 30 cm drop stop on the
+    # validity guard (docs/reliability.md). Rank 0 fills its own slot first (the 4 MPa point),
+    # so the worker, whose request arrives meanwhile, gets the failing one.
+    failing = work / "failing.prm"
+    failing.write_text(FAILING.format(source=args.source))
+    sweep = Sweep(args, failing)
+    serial, ranks2 = sweep.run(work / "failing_serial", 0), sweep.run(work / "failing_ranks2", 2)
+    for label, r in (("serial", serial), ("2 ranks", ranks2)):
+        check(r.returncode == 1, f"failing point, {label}: exit {r.returncode}, expected 1")
+    check(comparable(work / "failing_serial/sweep.csv") ==
+          comparable(work / "failing_ranks2/sweep.csv"),
+          "failing point: sweep.csv at 2 ranks differs from the serial one")
+    bad_id = "fem_sole_dt1ms_E0.01MPa"
+    message = (work / "failing_ranks2/points" / bad_id / "failure.txt").read_text()
+    check("Sole/Max compression" in message and
+          message.replace("failing_ranks2", "failing_serial") ==
+          (work / "failing_serial/points" / bad_id / "failure.txt").read_text(),
+          f"failing point: failure.txt at 2 ranks: {message}")
+    check(f"{bad_id} (rank 1): FAILED (exit 1)" in ranks2.stdout,
+          f"failing point: not reported as failed on rank 1: {ranks2.stdout}")
+    check(",failed," in (work / "failing_ranks2/sweep.csv").read_text(),
+          "failing point: sweep.csv has no failed row")
 
     # A bad scene: rank 0 fails, every rank exits, one message.
     bad = work / "bad.prm"
