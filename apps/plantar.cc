@@ -1,6 +1,7 @@
 // plantar: the command-line program.
 //   plantar run SCENE.prm [-o DIR]           run a scene (or a comparison of foot forms)
-//   plantar sweep SCENE.prm [-o DIR] [-j N]  one run per point of subsection Sweep
+//   plantar sweep SCENE.prm [-o DIR] [-j N]  one run per point of subsection Sweep (also under
+//                                            mpirun: apps/sweep_queue.h)
 //   plantar plot DIR                         PNG figures from the CSVs under DIR
 //   plantar print-parameters                 every scene parameter with default, range, help
 //   plantar --help | <command> --help
@@ -10,12 +11,14 @@
 #include "apps/scene.h"
 #include "apps/static_sole_job.h"
 #include "apps/sweep.h"
+#include "apps/sweep_queue.h"
 #include "fem/atomic_file.h"
 #include "fem/exception_text.h"
 
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -31,7 +34,8 @@ Usage:
   plantar run SCENE.prm [-o DIR]           run a scene; outputs (parameters.prm, summary, CSV,
                                            VTU, figures) go to DIR (default: out/<scene name>)
   plantar sweep SCENE.prm [-o DIR] [-j N]  run the grid of subsection Sweep, N processes at a
-                                           time; resumes an interrupted sweep
+                                           time (per MPI rank under mpirun); resumes an
+                                           interrupted sweep
   plantar plot DIR                         PNG figures from the CSVs under DIR into DIR/figures
   plantar print-parameters                 print every scene parameter with its default, range
                                            and help
@@ -81,6 +85,11 @@ failure.txt) exists; both are written atomically, so rerunning an interrupted
 sweep only computes the missing points. Writes DIR/parameters.prm,
 DIR/sweep.csv (one row per point), DIR/summary.txt and DIR/figures/.
 Default DIR: out/<scene name>. Exit status 1 if a point failed.
+Under MPI (mpirun -np R plantar sweep ..., or srun) the points are handed out
+one at a time to whichever rank has a free slot, each rank running up to N
+points at a time (rank 0 included); DIR must be on a file system all ranks
+share. Rank 0 writes the scene files, prints, and writes sweep.csv at the end.
+See docs/cluster.md.
 )";
 
 const char* const plot_help = R"(plantar plot DIR
@@ -99,6 +108,9 @@ Prints every scene parameter, grouped by subsection, with its default value,
 allowed range (pattern) and documentation. With --prm, prints a complete scene
 file with the defaults instead.
 )";
+
+/// Swallows what ranks other than 0 would print.
+std::ostream quiet(nullptr);
 
 bool wants_help(const std::vector<std::string>& args) {
   for (const auto& a : args)
@@ -201,8 +213,12 @@ int run(const std::vector<std::string>& args) {
 }
 
 int sweep(const std::vector<std::string>& args) {
+  // Under mpirun every rank parses the same arguments; only rank 0 speaks.
+  const int rank = app::sweep_rank();
+  std::ostream& cout = rank == 0 ? std::cout : quiet;
+  std::ostream& cerr = rank == 0 ? std::cerr : quiet;
   if (wants_help(args)) {
-    std::cout << sweep_help;
+    cout << sweep_help;
     return 0;
   }
   std::string scene_file, output;
@@ -214,30 +230,39 @@ int sweep(const std::vector<std::string>& args) {
       char* end = nullptr;
       const long n = std::strtol(args[++i].c_str(), &end, 10);
       if (*end != '\0' || n < 1 || n > 256) {
-        std::cerr << "plantar sweep: -j " << args[i] << ": must be an integer in [1, 256]\n";
+        cerr << "plantar sweep: -j " << args[i] << ": must be an integer in [1, 256]\n";
         return 2;
       }
       jobs = static_cast<int>(n);
     } else if (scene_file.empty() && args[i][0] != '-')
       scene_file = args[i];
     else {
-      std::cerr << "plantar sweep: unexpected argument '" << args[i] << "'\n" << sweep_help;
+      cerr << "plantar sweep: unexpected argument '" << args[i] << "'\n" << sweep_help;
       return 2;
     }
   }
   if (scene_file.empty()) {
-    std::cerr << "plantar sweep: missing SCENE.prm\n" << sweep_help;
+    cerr << "plantar sweep: missing SCENE.prm\n" << sweep_help;
     return 2;
   }
-  dealii::ParameterHandler prm;
-  const app::Scene scene = app::load_scene(scene_file, prm);
+  const auto executable = std::filesystem::read_symlink("/proc/self/exe");
+  if (rank != 0)
+    return app::run_sweep_worker(jobs, executable);
   const std::filesystem::path out = output_directory(scene_file, output);
   int status = 0;
   try {
-    status = app::run_sweep(scene_file, scene, out, jobs,
-                            std::filesystem::read_symlink("/proc/self/exe"));
+    dealii::ParameterHandler prm;
+    const app::Scene scene = app::load_scene(scene_file, prm);
+    try {
+      status = app::run_sweep(scene_file, scene, out, jobs, executable);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("scene '" + scene_file + "': " + fem::exception_text(e));
+    }
   } catch (const std::exception& e) {
-    throw std::runtime_error("scene '" + scene_file + "': " + fem::exception_text(e));
+    // The message first: mpirun may end rank 0 as soon as a stopped rank exits with 1.
+    std::cerr << "plantar: error: " << fem::exception_text(e) << std::endl;
+    app::stop_sweep_workers(1);
+    return 1;
   }
   const int plot_status = app::plot_directory(out);
   std::cout << "outputs in " << out.string() << "\n";
@@ -266,6 +291,10 @@ int main(int argc, char** argv) {
   }
   const std::string command = args[0];
   args.erase(args.begin());
+  // MPI only for a sweep started by mpirun or srun; its points' runs never initialise it.
+  std::optional<app::MpiSession> mpi;
+  if (command == "sweep" && app::launched_by_mpi())
+    mpi.emplace(argc, argv);
   try {
     if (command == "run")
       return run(args);

@@ -1,21 +1,19 @@
 #include "apps/sweep.h"
 
 #include "apps/humanoid_job.h"
+#include "apps/point_process.h"
+#include "apps/sweep_queue.h"
 #include "fem/atomic_file.h"
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fcntl.h>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace plantar::app {
 
@@ -64,41 +62,6 @@ std::string point_scene(const fs::path& scene_file, const Scene& scene, const Sw
   std::ostringstream out;
   prm.print_parameters(out, dealii::ParameterHandler::PRM);
   return out.str();
-}
-
-/// Last line of @p log starting with "plantar: error:", or its last line.
-std::string failure_message(const fs::path& log) {
-  std::ifstream in(log);
-  std::string line, last, error;
-  while (std::getline(in, line)) {
-    if (line.find("plantar: error:") == 0)
-      error = line.substr(16);
-    if (!line.empty())
-      last = line;
-  }
-  return error.empty() ? last : error;
-}
-
-pid_t start_point(const fs::path& executable, const fs::path& directory) {
-  const fs::path scene = directory / "scene.prm", log = directory / "log.txt";
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t pid = ::fork();
-  if (pid < 0)
-    throw std::runtime_error("sweep: cannot start a process");
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      ::dup2(fd, STDOUT_FILENO);
-      ::dup2(fd, STDERR_FILENO);
-      ::close(fd);
-    }
-    ::execl(executable.c_str(), executable.c_str(), "run", scene.c_str(), "-o", directory.c_str(),
-            "--no-figures", static_cast<char*>(nullptr));
-    std::fprintf(stderr, "plantar: error: cannot run '%s'\n", executable.c_str());
-    ::_exit(127);
-  }
-  return pid;
 }
 
 } // namespace
@@ -203,46 +166,41 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
                                [&](std::ostream& os) { os << text; });
     pending.push_back(&p);
   }
+  const int ranks = sweep_ranks();
+  std::ostringstream processes;
+  processes << jobs << " process" << (jobs > 1 ? "es" : "");
+  if (ranks > 1)
+    processes << " on each of " << ranks << " MPI ranks";
   std::cout << "sweep: " << points.size() << " points, " << n_done_before << " already done, "
-            << pending.size() << " to run with " << jobs << " process" << (jobs > 1 ? "es" : "")
-            << "\n"
+            << pending.size() << " to run with " << processes.str() << "\n"
             << std::flush;
 
-  // Child processes, up to `jobs` at a time.
-  std::map<pid_t, const SweepPoint*> running;
-  std::size_t next = 0;
+  // Child processes, up to `jobs` at a time (on each rank).
   int n_finished = 0;
-  while (next < pending.size() || !running.empty()) {
-    while (next < pending.size() && static_cast<int>(running.size()) < jobs) {
-      const SweepPoint* p = pending[next++];
-      running[start_point(executable, output / "points" / p->id)] = p;
+  const auto print = [&](const SweepPoint& p, int rank, const std::string& report) {
+    std::cout << "[" << ++n_finished << "/" << pending.size() << "] " << p.id;
+    if (ranks > 1)
+      std::cout << " (rank " << rank << ")";
+    std::cout << ": " << report << "\n" << std::flush;
+  };
+  if (ranks > 1) {
+    std::vector<fs::path> directories;
+    for (const SweepPoint* p : pending)
+      directories.push_back(fs::absolute(output / "points" / p->id));
+    run_points_on_ranks(directories, jobs, executable, [&](const FinishedPoint& f) {
+      print(*pending[static_cast<std::size_t>(f.index)], f.rank, f.report);
+    });
+  } else {
+    PointProcesses local(executable, jobs);
+    std::size_t next = 0;
+    while (next < pending.size() || !local.empty()) {
+      while (next < pending.size() && local.has_free_slot()) {
+        local.start(static_cast<int>(next), output / "points" / pending[next]->id);
+        ++next;
+      }
+      if (const auto f = local.reap(true))
+        print(*pending[static_cast<std::size_t>(f->index)], 0, f->report);
     }
-    int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
-    if (pid < 0)
-      throw std::runtime_error("sweep: waitpid failed");
-    const auto it = running.find(pid);
-    if (it == running.end())
-      continue;
-    const SweepPoint& p = *it->second;
-    running.erase(it);
-    ++n_finished;
-    const fs::path dir = output / "points" / p.id;
-    std::cout << "[" << n_finished << "/" << pending.size() << "] " << p.id << ": ";
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(dir / "summary.csv")) {
-      std::cout << "max |a_z| "
-                << read_summary_value(dir / "summary.csv", "max_waist_acceleration_z")
-                << " m/s^2, roll difference "
-                << read_summary_value(dir / "summary.csv", "roll_difference_deg") << " deg\n";
-    } else if (WIFEXITED(status)) {
-      const std::string message = failure_message(dir / "log.txt");
-      fem::write_file_atomically(dir / "failure.txt",
-                                 [&](std::ostream& os) { os << message << "\n"; });
-      std::cout << "FAILED (exit " << WEXITSTATUS(status) << "): " << message << "\n";
-    } else {
-      std::cout << "killed by a signal; rerun the sweep to redo it\n";
-    }
-    std::cout << std::flush;
   }
 
   // Gather.
@@ -295,7 +253,10 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
   summary << "sweep: " << scene_file.string() << " (" << to_string(scene.type) << "), "
           << points.size() << " points: " << n_done_before << " done before, " << pending.size()
           << " run now; " << n_failed << " failed, " << n_missing << " missing\n"
-          << "wall time " << wall << " s with " << jobs << " process(es)\n";
+          << "wall time " << wall << " s with " << jobs << " process(es)";
+  if (ranks > 1)
+    summary << " on each of " << ranks << " MPI ranks";
+  summary << "\n";
   if (n_failed)
     summary << "failed points:\n" << failures.str();
   fem::write_file_atomically(output / "summary.txt",

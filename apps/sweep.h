@@ -4,7 +4,8 @@
 // process `plantar run DIR/points/<id>/scene.prm -o DIR/points/<id>`, up to N at a time. A point is
 // finished when its DIR/points/<id>/summary.csv (or failure.txt) exists; both are written
 // atomically, so an interrupted sweep resumes without recomputing finished points.
-// The results are gathered into DIR/sweep.csv (one row per point).
+// The results are gathered into DIR/sweep.csv (one row per point). Under mpirun the points are
+// spread over the ranks (apps/sweep_queue.h, docs/cluster.md).
 
 #include "apps/scene.h"
 
@@ -37,7 +38,8 @@ std::string replace_material(const std::string& materials, double youngs_modulus
                              double poisson_ratio, bool set_nu, double relaxation_time = 0);
 
 /// Runs the sweep of @p scene_file (already loaded into @p scene) into @p output with up to
-/// @p jobs child processes of @p executable (the plantar binary). Writes
+/// @p jobs child processes of @p executable (the plantar binary); called on rank 0 only when
+/// MPI runs several ranks (the others run run_sweep_worker), @p jobs then per rank. Writes
 /// output/{parameters.prm, sweep.csv, summary.txt}. Returns 0 if every point succeeded, 1
 /// otherwise (the failed points are listed with their messages).
 int run_sweep(const std::filesystem::path& scene_file, const Scene& scene,
