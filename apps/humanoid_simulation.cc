@@ -77,6 +77,11 @@ double roll_of(const Eigen::Matrix3d& rotation) {
 
 } // namespace
 
+void check_robot(const Scene& scene) {
+  const multibody::Model model = build_model(checked(scene), nullptr);
+  resolve_humanoid(model, scene);
+}
+
 HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     : scene_(checked(scene)), foot_model_(make_foot_model(scene_)),
       model_(build_model(scene_, foot_model_.get())),

@@ -124,4 +124,9 @@ private:
   HumanoidSummary summary_;
 };
 
+/// Loads @p scene's robot once (URDF, base and foot links, the humanoid's joints) without
+/// simulating: throws std::invalid_argument naming the file and parameter if it does not load.
+/// A comparison calls it before its foot forms, so a bad robot is reported once.
+void check_robot(const Scene& scene);
+
 } // namespace plantar::app

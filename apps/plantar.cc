@@ -165,6 +165,14 @@ int run(const std::vector<std::string>& args) {
   }
   dealii::ParameterHandler prm;
   const app::Scene scene = app::load_scene(scene_file, prm);
+  // A robot that does not load fails here: once, not once per foot form, and before any output.
+  if (scene.type != app::SceneType::static_sole) {
+    try {
+      app::check_robot(scene);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("scene '" + scene_file + "': " + fem::exception_text(e));
+    }
+  }
   const std::filesystem::path out = output_directory(scene_file, output);
   app::prepare_output_directory(out);
 
@@ -254,6 +262,8 @@ int sweep(const std::vector<std::string>& args) {
     dealii::ParameterHandler prm;
     const app::Scene scene = app::load_scene(scene_file, prm);
     try {
+      if (scene.type != app::SceneType::static_sole)
+        app::check_robot(scene); // once, not once per point
       status = app::run_sweep(scene_file, scene, out, jobs, executable);
     } catch (const std::exception& e) {
       throw std::runtime_error("scene '" + scene_file + "': " + fem::exception_text(e));

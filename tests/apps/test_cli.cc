@@ -71,6 +71,39 @@ void expect_png(const std::filesystem::path& file) {
   EXPECT_TRUE(std::filesystem::exists(file) && std::filesystem::file_size(file) > 1000) << file;
 }
 
+/// A URDF that urdfdom rejects (a truncated file) in a three-form comparison and in a sweep: one
+/// message naming the file, exit 1, no output directory (the robot is loaded before any form or
+/// point runs).
+TEST(Cli, RejectedUrdfIsReportedOnceBeforeAnyOutput) {
+  std::ifstream full(std::string(PLANTAR_SOURCE_DIR) + "/models/hrp2/hrp2.urdf");
+  std::stringstream urdf;
+  urdf << full.rdbuf();
+  const auto truncated = std::filesystem::current_path() / "truncated_robot.urdf";
+  std::ofstream(truncated) << urdf.str().substr(0, urdf.str().size() / 2);
+  std::ifstream in(std::string(PLANTAR_SOURCE_DIR) + "/scenes/drop.prm");
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto scene = write_scene(
+      "truncated-urdf", text.str() + "subsection Robot\n  set URDF file = " + truncated.string() +
+                            "\n  set Foot forms = rigid, compliant ankle, fem sole\nend\n");
+  for (const char* command : {"run", "sweep"}) {
+    const auto out = std::filesystem::current_path() / (std::string("out-truncated-") + command);
+    std::filesystem::remove_all(out);
+    const auto result = run(std::string(command) + " " + scene.string() + " -o " + out.string());
+    std::printf("%s: exit %d: %s", command, result.status, result.output.c_str());
+    EXPECT_EQ(result.status, 1) << command;
+    std::size_t n = 0;
+    for (std::size_t at = result.output.find("truncated_robot.urdf"); at != std::string::npos;
+         at = result.output.find("truncated_robot.urdf", at + 1))
+      ++n;
+    EXPECT_GE(n, 1u) << command;
+    EXPECT_EQ(result.output.find("plantar: error"), result.output.rfind("plantar: error"))
+        << command << ": one error message";
+    EXPECT_EQ(result.output.find("FAILED"), std::string::npos) << command;
+    EXPECT_FALSE(std::filesystem::exists(out)) << command << " left output behind";
+  }
+}
+
 /// A comparison of two forms on a 0.4 s drop where the compliant ankle is made to fail (a
 /// 1 N/m ankle spring without damper: the robot falls through its ankles onto the Fall height).
 TEST(Cli, ComparisonRunsEachFormReportsFailuresAndPlots) {
