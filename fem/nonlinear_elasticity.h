@@ -20,9 +20,16 @@
 // The linear problem (small strain) is solve_linearized(): one Newton step
 // from u = 0, whose tangent is the linear elasticity tensor with the laws'
 // small-strain E and nu (mixed: the B-bar form, locking-free).
+//
+// Visco-hyperelastic regions (materials().has_viscosity(), fem/visco_hyperelastic_law.h): each
+// solve is one time step of length time_step() from the committed internal variables (the
+// algorithmic stress and tangent); advance() commits them at the converged state. A failed
+// solve leaves them untouched (rollback: restore solution() and solve again, e.g. with a
+// smaller dt). In the mixed formulation the overstresses act on the isochoric part only.
 
 #include "fem/discretization.h"
 #include "fem/hyperelastic_material_table.h"
+#include "fem/visco_hyperelastic_history.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/tensor.h>
@@ -34,6 +41,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace plantar::fem {
@@ -95,6 +103,19 @@ public:
   /// at +-1e-7 u / |u|_inf, exact up to round-off for the linear part).
   void solve_linearized();
 
+  /// Time step dt (s, > 0) of the next solves (visco-hyperelastic regions; ignored otherwise).
+  /// Throws std::invalid_argument naming the value and the range.
+  void set_time_step(double dt);
+  double time_step() const { return time_step_; }
+  /// Commits the internal variables at the current state (the converged solution of the last
+  /// solve, re-evaluated here): Q_i <- e_i Q_i + beta_i gamma_i (S_iso - S_iso^n). No-op
+  /// without viscous regions. Throws as solve_at if an element is inverted.
+  void advance();
+  /// Internal variables back to the virgin state (called by setup()).
+  void reset_history();
+  /// The internal variables (nullptr without viscous regions; valid after setup()).
+  const ViscoHyperelasticHistory* history() const { return history_ ? &*history_ : nullptr; }
+
   /// Assembles the tangent at the current state (Dirichlet rows eliminated)
   /// and factorizes it (UMFPACK); then solve_tangent solves K_T x = b with
   /// x = 0 on constrained dofs.
@@ -148,6 +169,8 @@ private:
       nodal_load_;
   double load_factor_ = 0;
   double min_jacobian_ = 1;
+  double time_step_ = 0;
+  std::optional<ViscoHyperelasticHistory> history_;
 };
 
 } // namespace plantar::fem
