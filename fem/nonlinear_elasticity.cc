@@ -97,6 +97,16 @@ void NonlinearElasticity::advance() {
   history_->commit(time_step_);
 }
 
+void NonlinearElasticity::history_drift(dealii::Vector<double>& drift) {
+  drift.reinit(solution_.size());
+  if (!history_)
+    return;
+  assemble(false);
+  dealii::Vector<double> rhs(residual_);
+  rhs *= -1;
+  solve_tangent(rhs, drift);
+}
+
 void NonlinearElasticity::reset_history() {
   if (history_)
     history_->reset();

@@ -111,6 +111,12 @@ public:
   /// solve, re-evaluated here): Q_i <- e_i Q_i + beta_i gamma_i (S_iso - S_iso^n). No-op
   /// without viscous regions. Throws as solve_at if an element is inverted.
   void advance();
+  /// After advance(): the displacement change (m, dof order, 0 on constrained dofs) that the
+  /// relaxation over the next step of time_step() causes at fixed loads, to first order:
+  /// -K_T^-1 R(u), R assembled with the committed internal variables, K_T the last factorized
+  /// tangent (the last Newton iteration's or factorize_tangent()'s). Zero without viscous
+  /// regions. Exact for the linear law.
+  void history_drift(dealii::Vector<double>& drift);
   /// Internal variables back to the virgin state (called by setup()).
   void reset_history();
   /// The internal variables (nullptr without viscous regions; valid after setup()).

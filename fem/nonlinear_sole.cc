@@ -176,6 +176,12 @@ SoleUpdateReport NonlinearSole::update(const dealii::Vector<double>& forces) {
   } else {
     max_tolerated_error_ = std::max(max_tolerated_error_, report.prediction_error);
   }
+  if (problem_.history() != nullptr) {
+    // The relaxation over the next step at fixed forces moves the reference of the prediction.
+    problem_.history_drift(drift_);
+    for (unsigned int i = 0; i < 3 * n_contacts(); ++i)
+      reference_displacement_(i) += drift_(contact_dofs_[i / 3][i % 3]);
+  }
   return report;
 }
 

@@ -23,7 +23,10 @@
 // time step of length time_step() (set_time_step, e.g. the time since the last
 // update): Newton from the committed internal variables, then advance() commits
 // them, then the error control re-condenses as above (C is then the algorithmic
-// tangent's compliance, the history committed). apply_contact_forces alone
+// tangent's compliance, the history committed), then u_ref is moved by the
+// relaxation the next step causes at fixed forces (NonlinearElasticity::
+// history_drift, one assembly and one back-substitution; exact for the linear
+// law), so that predict() follows the creep. apply_contact_forces alone
 // commits nothing.
 // The full field (pressure condensed) is solution() of elasticity().
 //
@@ -121,6 +124,7 @@ private:
   double raw_asymmetry_ = 0;
   dealii::Vector<double> contact_displacement_, contact_force_;
   dealii::Vector<double> reference_displacement_, reference_force_;
+  dealii::Vector<double> drift_; // viscous regions: history_drift() of the last update
   unsigned int n_recondensations_ = 0;
   double max_tolerated_error_ = 0, last_error_ = 0;
 };
