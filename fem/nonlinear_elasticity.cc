@@ -102,9 +102,9 @@ void NonlinearElasticity::history_drift(dealii::Vector<double>& drift) {
   if (!history_)
     return;
   assemble(false);
-  dealii::Vector<double> rhs(residual_);
-  rhs *= -1;
-  solve_tangent(rhs, drift);
+  newton_rhs_ = residual_; // scratch (newton_rhs_ is only read within solve_at)
+  newton_rhs_ *= -1;
+  solve_tangent(newton_rhs_, drift);
 }
 
 void NonlinearElasticity::reset_history() {

@@ -92,15 +92,17 @@ private:
   std::vector<ViscousBranch> branches_;
 };
 
-/// Splits the branch keys (beta<i>, G<i>, tau<i>) off @p spec: returns @p spec without them in
-/// @p elastic and the branches' raw values. Throws std::invalid_argument naming the region, the
-/// key, its value and the allowed range (gaps in the numbering, a branch without tau<i>, with
-/// both or neither of beta<i> and G<i>, negative or non-finite values).
+/// One branch as written in a scene.
 struct ViscousBranchSpec {
   bool shear_modulus_given = false; ///< G<i> given (Pa) rather than beta<i>
   double value = 0;                 ///< beta_i or G_i
   double relaxation_time = 0;       ///< tau_i, s
 };
+
+/// Splits the branch keys (beta<i>, G<i>, tau<i>) off @p spec: returns @p spec without them in
+/// @p elastic and the branches' raw values. Throws std::invalid_argument naming the region, the
+/// key, its value and the allowed range (gaps in the numbering, a branch without tau<i>, with
+/// both or neither of beta<i> and G<i>, negative or non-finite values).
 std::vector<ViscousBranchSpec> split_viscous_branches(const MaterialSpec& spec,
                                                       MaterialSpec& elastic);
 
