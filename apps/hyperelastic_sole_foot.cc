@@ -79,6 +79,14 @@ HyperelasticSoleFoot::HyperelasticSoleFoot(const Scene& scene) : thickness_(scen
   const auto groups = mesh_sole(scene.sole, tria);
   const fem::HyperelasticMaterialTable laws(
       fem::parse_material_specs(scene.sole.materials, "Sole/Materials"), groups);
+  for (const auto& [region, id] : groups.volumes)
+    if (const fem::ViscoHyperelasticLaw* viscous =
+            groups.n_cells.count(id) ? laws.viscous(id) : nullptr)
+      throw std::invalid_argument(
+          "Sole/Materials: region '" + region + "' has " + std::to_string(viscous->n_branches()) +
+          " viscous branch(es) (beta<i>/G<i>, tau<i>): Sole/Model = hyperelastic does not take "
+          "them in the humanoid scenes yet (allowed: none; docs/viscoelastic.md, Not done); a "
+          "viscoelastic sole is law=prony with Sole/Model = linear");
   coupling::NonlinearCouplingParameters parameters;
   parameters.sole.attached_boundary = groups.surface("top");
   parameters.sole.contact_boundary = groups.surface("bottom");

@@ -80,7 +80,9 @@ void register_hyperelastic_law(const std::string& law_name, HyperelasticLawFacto
   registry()[law_name] = std::move(factory);
 }
 
-std::unique_ptr<HyperelasticLaw> make_hyperelastic_law(const MaterialSpec& spec) {
+std::unique_ptr<HyperelasticLaw> make_hyperelastic_law(const MaterialSpec& full_spec) {
+  MaterialSpec spec;
+  split_viscous_branches(full_spec, spec);
   HyperelasticLawFactory factory;
   std::string known;
   {
@@ -104,8 +106,15 @@ HyperelasticMaterialTable::HyperelasticMaterialTable(
     if (groups.volumes.count(name) == 0)
       throw std::invalid_argument("material region '" + name + "' is not a physical volume of '" +
                                   groups.file.string() + "'");
-    by_id_[groups.volumes.at(name)] = make_hyperelastic_law(spec);
-    region_ids_[name] = groups.volumes.at(name);
+    const dealii::types::material_id id = groups.volumes.at(name);
+    std::shared_ptr<const HyperelasticLaw> law = make_hyperelastic_law(spec);
+    MaterialSpec elastic;
+    const auto branches = split_viscous_branches(spec, elastic);
+    if (!branches.empty())
+      viscous_by_id_[id] =
+          std::make_shared<ViscoHyperelasticLaw>(law, make_viscous_branches(branches, *law));
+    by_id_[id] = std::move(law);
+    region_ids_[name] = id;
   }
   for (const auto& [name, id] : groups.volumes)
     if (groups.n_cells.count(id) && by_id_.count(id) == 0)
@@ -117,6 +126,21 @@ HyperelasticMaterialTable::HyperelasticMaterialTable(std::shared_ptr<const Hyper
     : uniform_(std::move(law)) {
   if (!uniform_)
     throw std::invalid_argument("HyperelasticMaterialTable: law is null");
+}
+
+HyperelasticMaterialTable::HyperelasticMaterialTable(
+    std::shared_ptr<const ViscoHyperelasticLaw> law)
+    : uniform_(law ? law->base_pointer() : nullptr), uniform_viscous_(std::move(law)) {
+  if (!uniform_viscous_)
+    throw std::invalid_argument("HyperelasticMaterialTable: law is null");
+}
+
+const ViscoHyperelasticLaw*
+HyperelasticMaterialTable::viscous(dealii::types::material_id id) const {
+  if (uniform_)
+    return uniform_viscous_.get();
+  const auto it = viscous_by_id_.find(id);
+  return it == viscous_by_id_.end() ? nullptr : it->second.get();
 }
 
 const HyperelasticLaw& HyperelasticMaterialTable::operator[](dealii::types::material_id id) const {

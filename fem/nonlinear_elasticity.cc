@@ -75,6 +75,41 @@ void NonlinearElasticity::setup(const std::vector<DirichletCondition>& dirichlet
   traction_load_.reinit(n);
   nodal_load_.reinit(n);
   load_factor_ = 0;
+  history_.reset();
+  if (materials_.has_viscosity())
+    history_.emplace(triangulation_, materials_, discretization_.cell_quadrature.size());
+}
+
+void NonlinearElasticity::set_time_step(double dt) {
+  if (!(dt > 0) || !std::isfinite(dt)) {
+    std::ostringstream message;
+    message << "NonlinearElasticity: time step dt = " << dt
+            << " s is out of range: allowed (0, inf)";
+    throw std::invalid_argument(message.str());
+  }
+  time_step_ = dt;
+}
+
+void NonlinearElasticity::advance() {
+  if (!history_)
+    return;
+  assemble(false);
+  history_->commit(time_step_);
+}
+
+void NonlinearElasticity::history_drift(dealii::Vector<double>& drift) {
+  drift.reinit(solution_.size());
+  if (!history_)
+    return;
+  assemble(false);
+  newton_rhs_ = residual_; // scratch (newton_rhs_ is only read within solve_at)
+  newton_rhs_ *= -1;
+  solve_tangent(newton_rhs_, drift);
+}
+
+void NonlinearElasticity::reset_history() {
+  if (history_)
+    history_->reset();
 }
 
 void NonlinearElasticity::add_traction(dealii::types::boundary_id boundary,
@@ -152,6 +187,9 @@ void NonlinearElasticity::assemble(bool with_tangent,
   if (with_tangent)
     tangent_ = 0;
   double min_J = std::numeric_limits<double>::infinity();
+  if (history_ && !(time_step_ > 0))
+    throw std::invalid_argument("NonlinearElasticity: the materials have viscous branches: set "
+                                "the time step (set_time_step(dt), dt > 0 s) before solving");
 
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     fe_values.reinit(cell);
@@ -171,7 +209,10 @@ void NonlinearElasticity::assemble(bool with_tangent,
         throw std::runtime_error("element " + std::to_string(cell->active_cell_index()) +
                                  " inverted: det F = " + std::to_string(J[q]) +
                                  " (allowed > 0) at load factor " + std::to_string(load_factor_));
-      law.evaluate(F[q], !mixed, st[q]);
+      if (history_ && history_->is_viscous(cell->active_cell_index()))
+        history_->evaluate(cell->active_cell_index(), q, F[q], !mixed, time_step_, st[q]);
+      else
+        law.evaluate(F[q], !mixed, st[q]);
     }
 
     if (mixed) {

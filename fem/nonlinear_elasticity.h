@@ -20,9 +20,16 @@
 // The linear problem (small strain) is solve_linearized(): one Newton step
 // from u = 0, whose tangent is the linear elasticity tensor with the laws'
 // small-strain E and nu (mixed: the B-bar form, locking-free).
+//
+// Visco-hyperelastic regions (materials().has_viscosity(), fem/visco_hyperelastic_law.h): each
+// solve is one time step of length time_step() from the committed internal variables (the
+// algorithmic stress and tangent); advance() commits them at the converged state. A failed
+// solve leaves them untouched (rollback: restore solution() and solve again, e.g. with a
+// smaller dt). In the mixed formulation the overstresses act on the isochoric part only.
 
 #include "fem/discretization.h"
 #include "fem/hyperelastic_material_table.h"
+#include "fem/visco_hyperelastic_history.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/tensor.h>
@@ -34,6 +41,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace plantar::fem {
@@ -95,6 +103,25 @@ public:
   /// at +-1e-7 u / |u|_inf, exact up to round-off for the linear part).
   void solve_linearized();
 
+  /// Time step dt (s, > 0) of the next solves (visco-hyperelastic regions; ignored otherwise).
+  /// Throws std::invalid_argument naming the value and the range.
+  void set_time_step(double dt);
+  double time_step() const { return time_step_; }
+  /// Commits the internal variables at the current state (the converged solution of the last
+  /// solve, re-evaluated here): Q_i <- e_i Q_i + beta_i gamma_i (S_iso - S_iso^n). No-op
+  /// without viscous regions. Throws as solve_at if an element is inverted.
+  void advance();
+  /// After advance(): the displacement change (m, dof order, 0 on constrained dofs) that the
+  /// relaxation over the next step of time_step() causes at fixed loads, to first order:
+  /// -K_T^-1 R(u), R assembled with the committed internal variables, K_T the last factorized
+  /// tangent (the last Newton iteration's or factorize_tangent()'s). Zero without viscous
+  /// regions. Exact for the linear law.
+  void history_drift(dealii::Vector<double>& drift);
+  /// Internal variables back to the virgin state (called by setup()).
+  void reset_history();
+  /// The internal variables (nullptr without viscous regions; valid after setup()).
+  const ViscoHyperelasticHistory* history() const { return history_ ? &*history_ : nullptr; }
+
   /// Assembles the tangent at the current state (Dirichlet rows eliminated)
   /// and factorizes it (UMFPACK); then solve_tangent solves K_T x = b with
   /// x = 0 on constrained dofs.
@@ -148,6 +175,8 @@ private:
       nodal_load_;
   double load_factor_ = 0;
   double min_jacobian_ = 1;
+  double time_step_ = 0;
+  std::optional<ViscoHyperelasticHistory> history_;
 };
 
 } // namespace plantar::fem

@@ -15,6 +15,9 @@ void NonlinearSoleParameters::validate() const {
   if (!(recondensation_tolerance > 0) || !std::isfinite(recondensation_tolerance))
     message << "NonlinearSoleParameters.recondensation_tolerance = " << recondensation_tolerance
             << " is out of range: allowed (0, inf)";
+  else if (!(time_step >= 0) || !std::isfinite(time_step))
+    message << "NonlinearSoleParameters.time_step = " << time_step
+            << " s is out of range: allowed [0, inf)";
   else if (max_substep_halvings > 10)
     message << "NonlinearSoleParameters.max_substep_halvings = " << max_substep_halvings
             << " is out of range: allowed [0, 10]";
@@ -31,6 +34,13 @@ NonlinearSole::NonlinearSole(const dealii::Triangulation<3>& triangulation,
                              const NonlinearSoleParameters& parameters)
     : parameters_((parameters.validate(), parameters)),
       problem_(triangulation, discretization, materials, parameters.newton) {
+  if (materials.has_viscosity()) {
+    if (!(parameters_.time_step > 0))
+      throw std::invalid_argument(
+          "NonlinearSoleParameters.time_step = 0 s is out of range: the materials have viscous "
+          "branches (allowed: > 0 s)");
+    problem_.set_time_step(parameters_.time_step);
+  }
   problem_.setup({{parameters_.attached_boundary, nullptr, {{true, true, true}}}});
   contact_dofs_ = problem_.boundary_nodes(parameters_.contact_boundary);
   if (contact_dofs_.empty())
@@ -159,11 +169,18 @@ SoleUpdateReport NonlinearSole::apply_contact_forces(const dealii::Vector<double
 
 SoleUpdateReport NonlinearSole::update(const dealii::Vector<double>& forces) {
   SoleUpdateReport report = apply_contact_forces(forces);
+  problem_.advance();
   if (report.prediction_error > parameters_.recondensation_tolerance) {
     condense();
     report.recondensed = true;
   } else {
     max_tolerated_error_ = std::max(max_tolerated_error_, report.prediction_error);
+  }
+  if (problem_.history() != nullptr) {
+    // The relaxation over the next step at fixed forces moves the reference of the prediction.
+    problem_.history_drift(drift_);
+    for (unsigned int i = 0; i < 3 * n_contacts(); ++i)
+      reference_displacement_(i) += drift_(contact_dofs_[i / 3][i % 3]);
   }
   return report;
 }

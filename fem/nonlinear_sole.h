@@ -19,6 +19,15 @@
 //   update(f):   apply_contact_forces, and condense() again if
 //                e > recondensation_tolerance. Counts re-condensations and
 //                records the largest error that was tolerated.
+// Visco-hyperelastic regions (fem/visco_hyperelastic_law.h): update(f) is one
+// time step of length time_step() (set_time_step, e.g. the time since the last
+// update): Newton from the committed internal variables, then advance() commits
+// them, then the error control re-condenses as above (C is then the algorithmic
+// tangent's compliance, the history committed), then u_ref is moved by the
+// relaxation the next step causes at fixed forces (NonlinearElasticity::
+// history_drift, one assembly and one back-substitution; exact for the linear
+// law), so that predict() follows the creep. apply_contact_forces alone
+// commits nothing.
 // The full field (pressure condensed) is solution() of elasticity().
 //
 // Matrices are deal.II FullMatrix (row-major, contiguous; C is symmetric, so
@@ -42,6 +51,9 @@ struct NonlinearSoleParameters {
   double recondensation_tolerance = 0.05;
   /// Force sub-step halvings allowed when Newton fails, range [0, 10].
   unsigned int max_substep_halvings = 4;
+  /// Time step of update() (s) where the materials have viscous branches: > 0 there (required),
+  /// ignored otherwise; range [0, inf).
+  double time_step = 0;
   /// Throws std::invalid_argument naming the field, its value and the range.
   void validate() const;
 };
@@ -81,8 +93,12 @@ public:
   /// Newton solve for the total contact forces @p forces (3 n_c, N, mesh frame).
   /// @throws std::runtime_error if Newton fails even with sub-steps (state restored).
   SoleUpdateReport apply_contact_forces(const dealii::Vector<double>& forces);
-  /// apply_contact_forces, then condense() if the prediction error exceeds the tolerance.
+  /// apply_contact_forces, then (viscous regions) the internal variables committed, then
+  /// condense() if the prediction error exceeds the tolerance.
   SoleUpdateReport update(const dealii::Vector<double>& forces);
+  /// The time step of the next update()s (s, > 0; viscous regions). Throws std::invalid_argument.
+  void set_time_step(double dt) { problem_.set_time_step(dt); }
+  double time_step() const { return problem_.time_step(); }
 
   /// Current contact displacements (3 n_c, m) and forces (N).
   const dealii::Vector<double>& contact_displacements() const { return contact_displacement_; }
@@ -108,6 +124,7 @@ private:
   double raw_asymmetry_ = 0;
   dealii::Vector<double> contact_displacement_, contact_force_;
   dealii::Vector<double> reference_displacement_, reference_force_;
+  dealii::Vector<double> drift_; // viscous regions: history_drift() of the last update
   unsigned int n_recondensations_ = 0;
   double max_tolerated_error_ = 0, last_error_ = 0;
 };
