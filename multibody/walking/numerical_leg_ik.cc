@@ -110,7 +110,9 @@ NumericalLegIk::NumericalLegIk(const multibody::Model& model, std::vector<int> j
   rhs_.resize(n);
   step_.resize(n);
   active_.assign(n, 0);
-  llt_ = Eigen::LLT<Eigen::MatrixXd>(n);
+  // Sizes the factorisation's storage (and sets its info(): a sized but never computed LLT's
+  // info is uninitialised, and copying it is undefined behaviour, found by UBSan).
+  llt_.compute(Eigen::MatrixXd::Identity(n, n));
 }
 
 void NumericalLegIk::compute_error(const SE3& target, Vector6d& error) const {
