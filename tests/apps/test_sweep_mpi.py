@@ -107,14 +107,19 @@ class Sweep:
         return r
 
 
-def identical(args, work):
-    scene = work / "identical.prm"
-    scene.write_text(SCENE.format(source=args.source, duration=0.1,
-                                  steps="0.0005, 0.001, 0.002"))
+def serial_sweep(args, work, name, duration, steps):
+    """Writes the scene work/NAME.prm of drops at @p steps, runs its serial sweep into
+    work/serial; returns the Sweep and the point ids."""
+    scene = work / f"{name}.prm"
+    scene.write_text(SCENE.format(source=args.source, duration=duration, steps=steps))
     sweep = Sweep(args, scene)
     serial = sweep.run(work / "serial", 0)
     check(serial.returncode == 0, f"serial sweep failed: {serial.stderr}")
-    ids = point_ids(work / "serial/sweep.csv")
+    return sweep, point_ids(work / "serial/sweep.csv")
+
+
+def identical(args, work):
+    sweep, ids = serial_sweep(args, work, "identical", 0.1, "0.0005, 0.001, 0.002")
     check(len(ids) == 6, f"serial sweep.csv has {len(ids)} points, expected 6")
     reference = comparable(work / "serial/sweep.csv")
     check(all(",ok," in l for l in reference[1:] if l), "a serial point failed")
@@ -257,13 +262,8 @@ def orphans(sweep, out):
 
 def kill(args, work):
     rng = random.Random(args.seed)
-    scene = work / "kill.prm"
-    scene.write_text(SCENE.format(source=args.source, duration=0.3,
-                                  steps="0.00025, 0.0005, 0.00075, 0.001, 0.0015, 0.002"))
-    sweep = Sweep(args, scene)
-    serial = sweep.run(work / "serial", 0)
-    check(serial.returncode == 0, f"serial sweep failed: {serial.stderr}")
-    ids = point_ids(work / "serial/sweep.csv")
+    sweep, ids = serial_sweep(args, work, "kill", 0.3,
+                              "0.00025, 0.0005, 0.00075, 0.001, 0.0015, 0.002")
     out = work / "killed"
     for victim in (2, 0):
         label = f"kill rank {victim}"
