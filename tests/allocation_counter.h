@@ -1,8 +1,14 @@
 #pragma once
-// Counts every operator new of a test executable while `counting` is set: a global replacement
-// of operator new / delete, so include this header in exactly one file of the executable.
+// Counts the heap allocations of a test executable while `counting` is set. Include this header
+// in exactly one file of the executable.
+//
+// Normal builds replace the global operator new / delete (every form), so operator new is
+// counted (std containers; not Eigen's malloc). Under AddressSanitizer (CMake option
+// PLANTAR_SANITIZE) a replacement would fight ASan's own allocator, so ASan's allocation hook
+// counts instead: every malloc and operator new.
 
 #include <atomic>
+#include <cstddef>
 #include <cstdlib>
 #include <new>
 
@@ -10,6 +16,24 @@ namespace plantar::testing {
 inline std::atomic<bool> counting{false};
 inline std::atomic<long> n_allocations{0};
 } // namespace plantar::testing
+
+#if defined(__SANITIZE_ADDRESS__)
+
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*,
+                                                                             std::size_t),
+                                                         void (*free_hook)(const volatile void*));
+
+namespace plantar::testing {
+inline void count_allocation(const volatile void*, std::size_t) {
+  if (counting.load(std::memory_order_relaxed))
+    n_allocations.fetch_add(1, std::memory_order_relaxed);
+}
+inline void ignore_free(const volatile void*) {}
+inline const int allocation_hook_installed =
+    __sanitizer_install_malloc_and_free_hooks(count_allocation, ignore_free);
+} // namespace plantar::testing
+
+#else
 
 // The replacements pair malloc with free; GCC cannot see that and warns.
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
@@ -24,6 +48,16 @@ void* operator new(std::size_t size) {
 void* operator new[](std::size_t size) {
   return operator new(size);
 }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return operator new(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  return operator new(size, std::nothrow);
+}
 void operator delete(void* p) noexcept {
   std::free(p);
 }
@@ -36,3 +70,11 @@ void operator delete(void* p, std::size_t) noexcept {
 void operator delete[](void* p, std::size_t) noexcept {
   std::free(p);
 }
+void operator delete(void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+void operator delete[](void* p, const std::nothrow_t&) noexcept {
+  std::free(p);
+}
+
+#endif

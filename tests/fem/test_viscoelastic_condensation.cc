@@ -25,25 +25,7 @@
 #include <cstdlib>
 #include <new>
 
-// Counts operator new while g_counting is set (this test executable only).
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-} // namespace
-
-void* operator new(std::size_t size) {
-  if (g_counting)
-    ++g_allocations;
-  if (void* p = std::malloc(size ? size : 1))
-    return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
+#include "tests/allocation_counter.h"
 
 namespace plantar::fem {
 namespace {
@@ -334,16 +316,16 @@ TEST(ViscoelasticCondensation, AdvanceDoesNotAllocate) {
   dealii::Vector<double> f(3 * sole.n_contacts());
   forces_at(0.01, sole.n_contacts(), f);
   sole.advance(f);
-  g_allocations = 0;
-  g_counting = true;
+  plantar::testing::n_allocations = 0;
+  plantar::testing::counting = true;
   void* live = ::operator new(sizeof(int)); // the counter is live (an explicit call)
   ::operator delete(live);
-  const long baseline = g_allocations;
+  const long baseline = plantar::testing::n_allocations;
   for (int step = 0; step < 5; ++step)
     sole.advance(f);
-  g_counting = false;
+  plantar::testing::counting = false;
   EXPECT_EQ(baseline, 1);
-  EXPECT_EQ(g_allocations - baseline, 0);
+  EXPECT_EQ(plantar::testing::n_allocations - baseline, 0);
 }
 
 TEST(ViscoelasticBadInput, ParametersAreNamedWithValueAndRange) {

@@ -1,39 +1,16 @@
 // Per-time-step functions of plantar_walking allocate nothing: the library sources are compiled
-// into this test with EIGEN_RUNTIME_NO_MALLOC (eigen_no_malloc_config.h), and global operator
-// new is counted as well (which also covers plantar_multibody, linked as a library).
+// into this test with EIGEN_RUNTIME_NO_MALLOC (eigen_no_malloc_config.h), and heap allocations
+// are counted as well (tests/allocation_counter.h; this covers plantar_multibody, a library).
 #include "multibody/kinematics.h"
 #include "multibody/walking/joint_reference.h"
 #include "multibody/walking/leg_ik.h"
 #include "multibody/walking/numerical_leg_ik.h"
 #include "tests/multibody/walking/hrp2_humanoid.h"
 
-#include <atomic>
+#include "tests/allocation_counter.h"
+
 #include <cstdio>
-#include <cstdlib>
 #include <gtest/gtest.h>
-#include <new>
-
-namespace {
-std::atomic<long> g_news{0};
-} // namespace
-
-void* operator new(std::size_t size) {
-  ++g_news;
-  if (void* p = std::malloc(size ? size : 1))
-    return p;
-  throw std::bad_alloc();
-}
-// GCC 12 inlines std::allocator's operator new / delete pairs and then flags this free() of
-// the replacement operator new's malloc() as mismatched (a false positive).
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::size_t) noexcept {
-  std::free(p);
-}
-#pragma GCC diagnostic pop
 
 namespace {
 
@@ -93,14 +70,16 @@ TEST(NoMalloc, LegIkSampleAndNumericalIk) {
     q_full[model.idx_q[right_joints[i]]] = right_q[i] + (i % 2 ? -0.05 : 0.05);
   NumericalIkReport report;
 
-  const long news_before = g_news.load();
+  const long news_before = plantar::testing::n_allocations.load();
+  plantar::testing::counting = true;
   Eigen::internal::set_is_malloc_allowed(false);
   sole = leg_forward_kinematics(leg, base, leg_q);
   solve_leg_ik(leg, base, sole, solved);
   ref.sample(0.0075, sampled, sampled_base);
   report = numerical.solve(q_full, target);
   Eigen::internal::set_is_malloc_allowed(true);
-  const long news = g_news.load() - news_before;
+  plantar::testing::counting = false;
+  const long news = plantar::testing::n_allocations.load() - news_before;
 
   // The results are right too (against the closed form's inputs, the numerical target by the
   // model's FK, and the interpolation of a linear reference).

@@ -25,9 +25,16 @@
 #include <string>
 #include <vector>
 
-// Counts every heap allocation (Eigen's and operator new's go through malloc) by interposing
-// glibc's malloc in this executable.
-#if defined(__GLIBC__)
+// Counts every heap allocation (Eigen's and operator new's go through malloc): by interposing
+// glibc's malloc in this executable, or under AddressSanitizer (which owns malloc) by its
+// allocation hook (tests/allocation_counter.h).
+#if defined(__SANITIZE_ADDRESS__)
+#include "tests/allocation_counter.h"
+namespace {
+[[maybe_unused]] const bool g_count_from_start = (plantar::testing::counting = true);
+} // namespace
+#define PLANTAR_COUNT_MALLOC 1
+#elif defined(__GLIBC__)
 namespace {
 std::atomic<long> g_mallocs{0};
 } // namespace
@@ -43,7 +50,9 @@ namespace {
 
 /// Heap allocations so far (0 where malloc is not counted).
 long g_mallocs_value() {
-#ifdef PLANTAR_COUNT_MALLOC
+#if defined(__SANITIZE_ADDRESS__)
+  return plantar::testing::n_allocations.load();
+#elif defined(PLANTAR_COUNT_MALLOC)
   return g_mallocs.load();
 #else
   return 0;
