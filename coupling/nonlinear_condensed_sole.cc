@@ -112,7 +112,6 @@ NonlinearCondensedSole::update(const Eigen::Ref<const Eigen::VectorXd>& forces) 
     return report;
   }
   const auto& u = sole_->contact_displacements();
-  bool recondensed = false;
   if (viscous_ && elapsed_ > 1.5 * dt && deformed && relaxation(elapsed_ - dt) > 0) {
     // The forces stayed within the tolerance of the checked ones until the last step: the sole
     // crept at those forces for elapsed - dt, then the last step moves them. (A step over the
@@ -121,9 +120,9 @@ NonlinearCondensedSole::update(const Eigen::Ref<const Eigen::VectorXd>& forces) 
     for (int i = 0; i < forces.size(); ++i)
       force_buffer_(i) = checked_forces_[i];
     sole_->set_time_step(elapsed_ - dt);
-    const fem::SoleUpdateReport creep = sole_->update(force_buffer_, dt);
+    // No re-condensation here: the step to the new forces follows and judges the prediction.
+    const fem::SoleUpdateReport creep = sole_->update(force_buffer_, dt, false);
     newton_iterations_ += creep.newton.iterations;
-    recondensed = creep.recondensed;
     for (int i = 0; i < forces.size(); ++i) {
       work_ += checked_forces_[i] * (u(i) - checked_displacements_[i]);
       checked_displacements_[i] = u(i);
@@ -134,8 +133,7 @@ NonlinearCondensedSole::update(const Eigen::Ref<const Eigen::VectorXd>& forces) 
     force_buffer_(i) = forces[i];
   if (viscous_) // an undeformed sole had nothing to relax
     sole_->set_time_step(deformed ? elapsed_ : dt);
-  fem::SoleUpdateReport r = sole_->update(force_buffer_, dt);
-  r.recondensed = r.recondensed || recondensed;
+  const fem::SoleUpdateReport r = sole_->update(force_buffer_, dt);
   // Work of the contact forces over the checked interval (trapezoid).
   for (int i = 0; i < forces.size(); ++i) {
     work_ += 0.5 * (checked_forces_[i] + forces[i]) * (u(i) - checked_displacements_[i]);

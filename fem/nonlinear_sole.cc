@@ -168,14 +168,17 @@ SoleUpdateReport NonlinearSole::apply_contact_forces(const dealii::Vector<double
   return report;
 }
 
-SoleUpdateReport NonlinearSole::update(const dealii::Vector<double>& forces, double next_step) {
+SoleUpdateReport NonlinearSole::update(const dealii::Vector<double>& forces, double next_step,
+                                       bool error_control) {
   SoleUpdateReport report = apply_contact_forces(forces);
   problem_.advance();
-  if (report.prediction_error > parameters_.recondensation_tolerance) {
-    condense();
-    report.recondensed = true;
-  } else {
-    max_tolerated_error_ = std::max(max_tolerated_error_, report.prediction_error);
+  if (error_control) {
+    if (report.prediction_error > parameters_.recondensation_tolerance) {
+      condense();
+      report.recondensed = true;
+    } else {
+      max_tolerated_error_ = std::max(max_tolerated_error_, report.prediction_error);
+    }
   }
   if (problem_.history() != nullptr) {
     // The relaxation over the next step at fixed forces moves the reference of the prediction.

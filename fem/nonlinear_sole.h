@@ -99,7 +99,9 @@ public:
   /// apply_contact_forces, then (viscous regions) the internal variables committed, then
   /// condense() if the prediction error exceeds the tolerance.
   /// Viscous regions: the history drift is for a next step of @p next_step (s; 0: time_step()).
-  SoleUpdateReport update(const dealii::Vector<double>& forces, double next_step = 0);
+  /// @p error_control false: no re-condensation (e.g. an update that another follows at once).
+  SoleUpdateReport update(const dealii::Vector<double>& forces, double next_step = 0,
+                          bool error_control = true);
   /// Viscous regions: u_ref += the last update's drift (contact part), the creep of one more
   /// step of its length at fixed forces. No heap allocation.
   void extrapolate_drift();
