@@ -22,32 +22,30 @@
 // deformation_field()) is available for output.
 //
 // Visco-hyperelastic regions (fem/visco_hyperelastic_law.h): update() is
-// called once per time-loop step of sole.time_step (s). A check advances the
-// sole's internal variables over the time elapsed since the last check: over
-// all but the last loop step at the last check's forces (within the tolerance,
-// they held), then one loop step to the new forces (two Newton solves; one if a
-// single step elapsed or the sole was undeformed: ||u_c|| of the last check at
-// most check_tolerance times the largest, the creep's scale below). Then d moves by the drift h,
-// the creep of one loop step at fixed forces (fem::NonlinearSole::update). Between checks
-// d moves by h at every call (linear extrapolation of the creep; the offset
-// changes, C_T does not). A creep at constant force is not seen by the force
-// test, so a check also fires on time, when both
+// called once per time-loop step of sole.time_step (s). A sole is "deformed"
+// when ||u_c|| of the last check exceeds check_tolerance times the largest of
+// its checks. A check advances the internal variables over the time t elapsed
+// since the last check: a creep of t - dt at the last check's forces (within
+// the tolerance they held), then one step dt to the new forces (one Newton
+// solve instead of two if one step elapsed or the sole is not deformed: then
+// over dt only). Then d moves by the drift h, the creep of one loop step at
+// fixed forces (fem::NonlinearSole::update); between checks d += h at every
+// call (linear extrapolation of the creep; C_T unchanged). A creep at constant
+// force is not seen by the force test, so a check also fires on time when the
+// sole is deformed and both
 //   r(t) = max over regions of sum_i beta_i (1 - exp(-t / tau_i)) > check_tolerance
-// (t the time since the last check: the fraction of the isochoric stress the
-// branches can relax in t, bounding the relative creep), and
+// (the fraction of the isochoric stress the branches can relax in t: a bound
+// of the relative creep; keeps beta = 0 from checking on round-off drifts) and
 //   k ||h|| > check_tolerance ||u_c||
-// (after k calls: the creep extrapolated since the last check, against u_c of
-// the last check): the relative displacement error allowed is then of the order
-// of the force test's; and ||u_c|| > check_tolerance times the largest ||u_c||
-// of the checks (a sole unloaded below that is not re-checked on time: its
-// creep is below the tolerance at the run's scale, and a Newton solve of a
-// state at round-off cannot reach a relative tolerance). The first test keeps
-// branches with beta = 0 (elastic) from checking on round-off drifts; the
-// second stops checks on a relaxed sole (h -> 0) until its forces move. Energy: work() = the work
-// of the contact forces on the sole (trapezoid over the checks) and stored_base_energy() = int W(F)
-// dV of the base (long-term) law; their difference is what the branches absorbed (dissipated, or
-// still held by the overstresses: no closed-form free energy of the overstresses exists for a
-// general W_iso, docs/viscoelastic.md).
+// (after k calls: the creep extrapolated since the last check against u_c of
+// the last check; a relaxed sole, h -> 0, is not checked until its forces
+// move). An undeformed sole is not checked on time: its creep is below the
+// tolerance at the run's scale, and a Newton solve of a state at round-off
+// cannot reach a relative tolerance.
+// Energy: work() (the contact forces' work, trapezoid over the checks) minus
+// stored_base_energy() (int W(F) dV of the base, long-term, law) is what the
+// branches absorbed: dissipated or still held by the overstresses (they have
+// no closed-form free energy for a general W_iso, docs/viscoelastic.md).
 
 #include "fem/discretization.h"
 #include "fem/hyperelastic_material_table.h"
