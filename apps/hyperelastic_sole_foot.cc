@@ -79,14 +79,12 @@ HyperelasticSoleFoot::HyperelasticSoleFoot(const Scene& scene) : thickness_(scen
   const auto groups = mesh_sole(scene.sole, tria);
   const fem::HyperelasticMaterialTable laws(
       fem::parse_material_specs(scene.sole.materials, "Sole/Materials"), groups);
-  for (const auto& [region, id] : groups.volumes)
-    if (const fem::ViscoHyperelasticLaw* viscous =
-            groups.n_cells.count(id) ? laws.viscous(id) : nullptr)
-      throw std::invalid_argument(
-          "Sole/Materials: region '" + region + "' has " + std::to_string(viscous->n_branches()) +
-          " viscous branch(es) (beta<i>/G<i>, tau<i>): Sole/Model = hyperelastic does not take "
-          "them in the humanoid scenes yet (allowed: none; docs/viscoelastic.md, Not done); a "
-          "viscoelastic sole is law=prony with Sole/Model = linear");
+  viscous_ = laws.has_viscosity();
+  if (viscous_ && scene.sole.damping_time != 0.0)
+    throw std::invalid_argument(
+        "Sole/Damping time = " + std::to_string(scene.sole.damping_time) +
+        " s: a visco-hyperelastic sole (beta<i>/G<i>, tau<i> in Sole/Materials) dissipates "
+        "through its branches, allowed 0 (no Kelvin-Voigt damping on top)");
   coupling::NonlinearCouplingParameters parameters;
   parameters.sole.attached_boundary = groups.surface("top");
   parameters.sole.contact_boundary = groups.surface("bottom");
@@ -95,6 +93,8 @@ HyperelasticSoleFoot::HyperelasticSoleFoot(const Scene& scene) : thickness_(scen
                                            : fem::NonlinearSettings::Formulation::displacement;
   parameters.sole.recondensation_tolerance = scene.sole.recondensation_tolerance;
   parameters.check_tolerance = scene.sole.check_tolerance;
+  if (viscous_) // one update() per step: the internal variables advance with the loop's time
+    parameters.sole.time_step = scene.simulation.time_step;
   for (auto& sole : soles_)
     sole = std::make_unique<coupling::NonlinearCondensedSole>(tria, laws, scene.sole.degree,
                                                               parameters);
@@ -129,18 +129,23 @@ void HyperelasticSoleFoot::update(const multibody::Data& data) {
                                "step), a finer mesh (Sole/Mesh size) or Sole/Formulation = mixed "
                                "(nearly incompressible rubber)");
     }
-    if (report.recondensed) {
-      // Body frame: R C R^T per 3x3 block and R d per node, R = sole -> body rotation.
-      const Eigen::Matrix3d& r = frame.placement.rotation;
-      const int n = sole.n_contacts();
-      for (int i = 0; i < n; ++i) {
-        offset_.segment<3>(3 * i) = r * sole.offset().segment<3>(3 * i);
-        for (int j = 0; j < n; ++j)
-          compliance_.block<3, 3>(3 * i, 3 * j) =
-              r * sole.compliance().block<3, 3>(3 * i, 3 * j) * r.transpose();
-      }
-      set_patch_compliance(foot, compliance_, offset_);
+    if (!report.recondensed && !report.offset_moved)
+      continue;
+    // Body frame: R C R^T per 3x3 block and R d per node, R = sole -> body rotation.
+    const Eigen::Matrix3d& r = frame.placement.rotation;
+    const int n = sole.n_contacts();
+    for (int i = 0; i < n; ++i)
+      offset_.segment<3>(3 * i) = r * sole.offset().segment<3>(3 * i);
+    if (!report.recondensed) { // viscous regions: the creep moved d only
+      pad_state(foot).set_offset(offset_);
+      pad_state(foot).set_lifted_offset(true); // lifted, the sole keeps recovering (U = d)
+      continue;
     }
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        compliance_.block<3, 3>(3 * i, 3 * j) =
+            r * sole.compliance().block<3, 3>(3 * i, 3 * j) * r.transpose();
+    set_patch_compliance(foot, compliance_, offset_);
   }
 }
 
@@ -161,6 +166,12 @@ void HyperelasticSoleFoot::summarize(HumanoidSummary& summary) const {
   summary.sole_tolerated_error =
       std::max(soles_[0]->max_tolerated_error(), soles_[1]->max_tolerated_error());
   summary.sole_recondensation_tolerance = soles_[0]->parameters().sole.recondensation_tolerance;
+  if (viscous_) { // work of the contact forces minus the base law's stored energy
+    double absorbed = 0;
+    for (const auto& sole : soles_)
+      absorbed += sole->work() - sole->stored_base_energy();
+    summary.sole_dissipated_energy = absorbed;
+  }
 }
 
 SolePatchFoot::SoleMesh HyperelasticSoleFoot::sole_mesh(int foot) const {

@@ -6,6 +6,12 @@
 // lifted by Sole/Thickness. Validity: J = det F (min over the quadrature points of both soles
 // at their last Newton solve) against Sole/Jacobian warning and Min jacobian; a Newton solve
 // that fails stops the run naming the remedies (smaller dt, finer mesh, mixed formulation).
+// Viscous branches in Sole/Materials (beta<i>/G<i>, tau<i>: visco-hyperelasticity,
+// fem/visco_hyperelastic_law.h): the soles' internal variables advance with the time loop
+// (coupling/nonlinear_condensed_sole.h: Newton checks on force change and on creep, the offset
+// d following the creep between them); Sole/Damping time must then be 0. The summary's
+// sole_dissipated_energy is then, for both feet, the work of the contact forces on the sole
+// minus the base law's stored energy int W(F) dV (dissipated plus still held by the branches).
 
 #include "apps/sole_patch_foot.h"
 
@@ -46,6 +52,7 @@ protected:
 
 private:
   double thickness_ = 0;
+  bool viscous_ = false; ///< Sole/Materials has viscous branches
   ValidityLimit jacobian_limit_;
   std::array<std::unique_ptr<coupling::NonlinearCondensedSole>, 2> soles_;
   Eigen::VectorXd forces_, offset_; ///< 3 n_c workspaces of update()

@@ -1,6 +1,9 @@
 #include "coupling/nonlinear_condensed_sole.h"
 
+#include <deal.II/fe/fe_values.h>
+
 #include <cmath>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -37,6 +40,14 @@ NonlinearCondensedSole::NonlinearCondensedSole(const dealii::Triangulation<3>& t
   offset_.setZero(3 * n);
   force_buffer_.reinit(3 * n);
   checked_forces_.setZero(3 * n);
+  checked_displacements_.setZero(3 * n);
+  viscous_ = materials_.has_viscosity();
+  std::set<dealii::types::material_id> ids;
+  for (const auto& cell : triangulation_.active_cell_iterators())
+    ids.insert(cell->material_id());
+  for (const dealii::types::material_id id : ids)
+    if (const fem::ViscoHyperelasticLaw* law = materials_.viscous(id))
+      regions_.push_back(law->branches());
   copy_condensation();
 }
 
@@ -48,13 +59,19 @@ void NonlinearCondensedSole::copy_condensation() {
   for (int i = 0; i < size; ++i)
     for (int j = 0; j < size; ++j)
       compliance_(i, j) = c(i, j);
-  // d = u_ref - C_T f_ref at the state of the condensation (the current one).
-  Eigen::VectorXd u(size), f(size);
+  compute_offset();
+}
+
+void NonlinearCondensedSole::compute_offset() {
+  // d = u_ref - C_T f_ref (u_ref: the condensation's state, moved by the drifts since).
+  const int size = static_cast<int>(compliance_.rows());
+  for (int i = 0; i < size; ++i)
+    offset_[i] = sole_->reference_displacements()(i);
   for (int i = 0; i < size; ++i) {
-    u[i] = sole_->contact_displacements()(i);
-    f[i] = sole_->contact_forces()(i);
+    const double f = sole_->reference_forces()(i);
+    if (f != 0.0)
+      offset_ -= compliance_.col(i) * f; // C_T symmetric
   }
-  offset_ = u - compliance_ * f;
 }
 
 void NonlinearCondensedSole::check_size(const Eigen::Ref<const Eigen::VectorXd>& forces,
@@ -71,14 +88,61 @@ NonlinearUpdateReport
 NonlinearCondensedSole::update(const Eigen::Ref<const Eigen::VectorXd>& forces) {
   check_size(forces, "update");
   NonlinearUpdateReport report;
+  const double dt = parameters_.sole.time_step;
+  if (viscous_)
+    elapsed_ += dt;
+  ++calls_since_;
   const double scale = std::max(forces.norm(), checked_forces_.norm());
-  if ((forces - checked_forces_).norm() <= parameters_.check_tolerance * scale)
+  const bool force_moved = (forces - checked_forces_).norm() > parameters_.check_tolerance * scale;
+  const double tolerance = parameters_.check_tolerance;
+  // Deformed: u_c of the last check above the tolerance of the largest (else its creep is below
+  // the run's scale, and a Newton solve of a state at round-off cannot reach the tolerance).
+  const bool deformed = checked_norm_ > tolerance * max_checked_norm_;
+  const bool crept = viscous_ && deformed && relaxation(elapsed_) > tolerance &&
+                     calls_since_ * drift_norm_ > tolerance * checked_norm_;
+  if (!force_moved && !crept) {
+    if (viscous_ && drift_norm_ > 0) {
+      // One more loop step of creep at fixed forces: d += h.
+      sole_->extrapolate_drift();
+      const auto& h = sole_->contact_drift();
+      for (int i = 0; i < forces.size(); ++i)
+        offset_[i] += h(i);
+      report.offset_moved = true;
+    }
     return report;
+  }
+  const auto& u = sole_->contact_displacements();
+  if (viscous_ && elapsed_ > 1.5 * dt && deformed && relaxation(elapsed_ - dt) > 0) {
+    // The forces stayed within the tolerance of the checked ones until the last step: the sole
+    // crept at those forces for elapsed - dt, then the last step moves them. (A step over the
+    // whole interval would assume forces linear in time over it: a sudden load would find the
+    // branches relaxed.)
+    for (int i = 0; i < forces.size(); ++i)
+      force_buffer_(i) = checked_forces_[i];
+    sole_->set_time_step(elapsed_ - dt);
+    // No re-condensation here: the step to the new forces follows and judges the prediction.
+    const fem::SoleUpdateReport creep = sole_->update(force_buffer_, dt, false);
+    newton_iterations_ += creep.newton.iterations;
+    for (int i = 0; i < forces.size(); ++i) {
+      work_ += checked_forces_[i] * (u(i) - checked_displacements_[i]);
+      checked_displacements_[i] = u(i);
+    }
+    elapsed_ = dt;
+  }
   for (int i = 0; i < forces.size(); ++i)
     force_buffer_(i) = forces[i];
-  const fem::SoleUpdateReport r = sole_->update(force_buffer_);
+  if (viscous_) // an undeformed sole had nothing to relax
+    sole_->set_time_step(deformed ? elapsed_ : dt);
+  const fem::SoleUpdateReport r = sole_->update(force_buffer_, dt);
+  // Work of the contact forces over the checked interval (trapezoid).
+  for (int i = 0; i < forces.size(); ++i) {
+    work_ += 0.5 * (checked_forces_[i] + forces[i]) * (u(i) - checked_displacements_[i]);
+    checked_displacements_[i] = u(i);
+  }
   checked_forces_ = forces;
   ++n_checks_;
+  if (!force_moved)
+    ++n_time_checks_;
   newton_iterations_ += r.newton.iterations;
   report.checked = true;
   report.recondensed = r.recondensed;
@@ -86,7 +150,50 @@ NonlinearCondensedSole::update(const Eigen::Ref<const Eigen::VectorXd>& forces) 
   report.prediction_error = r.prediction_error;
   if (r.recondensed)
     copy_condensation();
+  else if (viscous_)
+    compute_offset();
+  report.offset_moved = r.recondensed || viscous_;
+  if (viscous_) {
+    elapsed_ = 0;
+    drift_norm_ = sole_->contact_drift().l2_norm();
+    checked_norm_ = u.l2_norm();
+    max_checked_norm_ = std::max(max_checked_norm_, checked_norm_);
+  }
+  calls_since_ = 0;
   return report;
+}
+
+double NonlinearCondensedSole::relaxation(double t) const {
+  double r = 0;
+  for (const auto& branches : regions_) {
+    double sum = 0;
+    for (const fem::ViscousBranch& b : branches)
+      sum -= b.beta * std::expm1(-t / b.relaxation_time);
+    r = std::max(r, sum);
+  }
+  return r;
+}
+
+double NonlinearCondensedSole::stored_base_energy() const {
+  const fem::NonlinearElasticity& problem = sole_->elasticity();
+  const fem::Discretization& discretization = problem.discretization();
+  dealii::FEValues<3> values(*discretization.mapping, *discretization.fe,
+                             discretization.cell_quadrature,
+                             dealii::update_gradients | dealii::update_JxW_values);
+  const dealii::FEValuesExtractors::Vector displacement(0);
+  std::vector<dealii::Tensor<2, 3>> gradients(discretization.cell_quadrature.size());
+  double energy = 0;
+  for (const auto& cell : problem.dof_handler().active_cell_iterators()) {
+    values.reinit(cell);
+    values[displacement].get_function_gradients(problem.solution(), gradients);
+    const fem::HyperelasticLaw& law = problem.materials()[cell->material_id()];
+    for (unsigned int q = 0; q < values.n_quadrature_points; ++q) {
+      dealii::Tensor<2, 3> F = dealii::unit_symmetric_tensor<3>();
+      F += gradients[q];
+      energy += law.strain_energy(F) * values.JxW(q);
+    }
+  }
+  return energy;
 }
 
 const dealii::Vector<double>&

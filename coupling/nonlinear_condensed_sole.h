@@ -20,6 +20,32 @@
 // d never change and the run costs the linear model plus the checks.
 // The full deformation field at the forces of the last check (or any forces,
 // deformation_field()) is available for output.
+//
+// Visco-hyperelastic regions (fem/visco_hyperelastic_law.h): update() is
+// called once per time-loop step of sole.time_step (s). A sole is "deformed"
+// when ||u_c|| of the last check exceeds check_tolerance times the largest of
+// its checks. A check advances the internal variables over the time t elapsed
+// since the last check: a creep of t - dt at the last check's forces (within
+// the tolerance they held), then one step dt to the new forces (one Newton
+// solve instead of two if one step elapsed or the sole is not deformed: then
+// over dt only). Then d moves by the drift h, the creep of one loop step at
+// fixed forces (fem::NonlinearSole::update); between checks d += h at every
+// call (linear extrapolation of the creep; C_T unchanged). A creep at constant
+// force is not seen by the force test, so a check also fires on time when the
+// sole is deformed and both
+//   r(t) = max over regions of sum_i beta_i (1 - exp(-t / tau_i)) > check_tolerance
+// (the fraction of the isochoric stress the branches can relax in t: a bound
+// of the relative creep; keeps beta = 0 from checking on round-off drifts) and
+//   k ||h|| > check_tolerance ||u_c||
+// (after k calls: the creep extrapolated since the last check against u_c of
+// the last check; a relaxed sole, h -> 0, is not checked until its forces
+// move). An undeformed sole is not checked on time: its creep is below the
+// tolerance at the run's scale, and a Newton solve of a state at round-off
+// cannot reach a relative tolerance.
+// Energy: work() (the contact forces' work, trapezoid over the checks) minus
+// stored_base_energy() (int W(F) dV of the base, long-term, law) is what the
+// branches absorbed: dissipated or still held by the overstresses (they have
+// no closed-form free energy for a general W_iso, docs/viscoelastic.md).
 
 #include "fem/discretization.h"
 #include "fem/hyperelastic_material_table.h"
@@ -31,6 +57,7 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <vector>
 
 namespace plantar::coupling {
 
@@ -45,8 +72,9 @@ struct NonlinearCouplingParameters {
 
 /// What one update() did.
 struct NonlinearUpdateReport {
-  bool checked = false;     ///< a Newton solve of the sole was done
-  bool recondensed = false; ///< C_T and d changed
+  bool checked = false;      ///< a Newton solve of the sole was done
+  bool recondensed = false;  ///< C_T and d changed
+  bool offset_moved = false; ///< d changed (viscous regions: after every call with a drift)
   unsigned int newton_iterations = 0;
   double prediction_error = 0; ///< e of eq. (1) at this check (0 if not checked)
 };
@@ -73,6 +101,14 @@ public:
   NonlinearUpdateReport update(const Eigen::Ref<const Eigen::VectorXd>& forces);
 
   int n_checks() const { return n_checks_; }
+  /// Checks fired by the time test (viscous regions), included in n_checks().
+  int n_time_checks() const { return n_time_checks_; }
+  /// Work of the contact forces on the sole since t = 0 (J): sum over the checks of
+  /// (f_prev + f) / 2 . (u_c - u_c,prev).
+  double work() const { return work_; }
+  /// int W(F) dV (J) of the base laws at the last Newton solve: the elastic (long-term) part
+  /// of the stored energy. One cell loop (allocates; for the summary).
+  double stored_base_energy() const;
   unsigned int n_recondensations() const { return sole_->n_recondensations(); }
   /// Largest e accepted without re-condensing.
   double max_tolerated_error() const { return sole_->max_tolerated_error(); }
@@ -88,6 +124,8 @@ public:
 
 private:
   void copy_condensation();
+  void compute_offset();
+  double relaxation(double t) const; ///< r(t) above
   void check_size(const Eigen::Ref<const Eigen::VectorXd>& forces, const char* where) const;
 
   NonlinearCouplingParameters parameters_;
@@ -100,7 +138,17 @@ private:
   Eigen::VectorXd offset_;
   dealii::Vector<double> force_buffer_;
   Eigen::VectorXd checked_forces_;
+  Eigen::VectorXd checked_displacements_;
+  bool viscous_ = false;
+  std::vector<std::vector<fem::ViscousBranch>> regions_; // branches of each viscous region
+  double elapsed_ = 0;                                   // s since the last check (viscous regions)
+  int calls_since_ = 0;                                  // update() calls since the last check
+  double drift_norm_ = 0;                                // ||h|| of the last check
+  double checked_norm_ = 0;                              // ||u_c|| of the last check
+  double max_checked_norm_ = 0;                          // the largest ||u_c|| of the checks
+  double work_ = 0;
   int n_checks_ = 0;
+  int n_time_checks_ = 0;
   unsigned int newton_iterations_ = 0;
 };
 

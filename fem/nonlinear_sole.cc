@@ -56,6 +56,7 @@ NonlinearSole::NonlinearSole(const dealii::Triangulation<3>& triangulation,
   contact_force_.reinit(n);
   reference_displacement_.reinit(n);
   reference_force_.reinit(n);
+  contact_drift_.reinit(n);
   compute_compliance();
 }
 
@@ -167,22 +168,34 @@ SoleUpdateReport NonlinearSole::apply_contact_forces(const dealii::Vector<double
   return report;
 }
 
-SoleUpdateReport NonlinearSole::update(const dealii::Vector<double>& forces) {
+SoleUpdateReport NonlinearSole::update(const dealii::Vector<double>& forces, double next_step,
+                                       bool error_control) {
   SoleUpdateReport report = apply_contact_forces(forces);
   problem_.advance();
-  if (report.prediction_error > parameters_.recondensation_tolerance) {
-    condense();
-    report.recondensed = true;
-  } else {
-    max_tolerated_error_ = std::max(max_tolerated_error_, report.prediction_error);
+  if (error_control) {
+    if (report.prediction_error > parameters_.recondensation_tolerance) {
+      condense();
+      report.recondensed = true;
+    } else {
+      max_tolerated_error_ = std::max(max_tolerated_error_, report.prediction_error);
+    }
   }
   if (problem_.history() != nullptr) {
     // The relaxation over the next step at fixed forces moves the reference of the prediction.
+    const double step = problem_.time_step();
+    if (next_step > 0)
+      problem_.set_time_step(next_step);
     problem_.history_drift(drift_);
+    problem_.set_time_step(step);
     for (unsigned int i = 0; i < 3 * n_contacts(); ++i)
-      reference_displacement_(i) += drift_(contact_dofs_[i / 3][i % 3]);
+      contact_drift_(i) = drift_(contact_dofs_[i / 3][i % 3]);
+    reference_displacement_ += contact_drift_;
   }
   return report;
+}
+
+void NonlinearSole::extrapolate_drift() {
+  reference_displacement_ += contact_drift_;
 }
 
 } // namespace plantar::fem

@@ -27,7 +27,10 @@
 // relaxation the next step causes at fixed forces (NonlinearElasticity::
 // history_drift, one assembly and one back-substitution; exact for the linear
 // law), so that predict() follows the creep. apply_contact_forces alone
-// commits nothing.
+// commits nothing. update(f, next_step) computes that drift for a next step of
+// another length than time_step() (e.g. one time-loop step after an update
+// that covered several); extrapolate_drift() moves u_ref by it once more (the
+// creep of one more step at fixed forces, without a Newton solve).
 // The full field (pressure condensed) is solution() of elasticity().
 //
 // Matrices are deal.II FullMatrix (row-major, contiguous; C is symmetric, so
@@ -95,7 +98,18 @@ public:
   SoleUpdateReport apply_contact_forces(const dealii::Vector<double>& forces);
   /// apply_contact_forces, then (viscous regions) the internal variables committed, then
   /// condense() if the prediction error exceeds the tolerance.
-  SoleUpdateReport update(const dealii::Vector<double>& forces);
+  /// Viscous regions: the history drift is for a next step of @p next_step (s; 0: time_step()).
+  /// @p error_control false: no re-condensation (e.g. an update that another follows at once).
+  SoleUpdateReport update(const dealii::Vector<double>& forces, double next_step = 0,
+                          bool error_control = true);
+  /// Viscous regions: u_ref += the last update's drift (contact part), the creep of one more
+  /// step of its length at fixed forces. No heap allocation.
+  void extrapolate_drift();
+  /// The contact part of the last update's drift (3 n_c, m; zero without viscous regions).
+  const dealii::Vector<double>& contact_drift() const { return contact_drift_; }
+  /// u_ref and f_ref of predict() (3 n_c; m, N).
+  const dealii::Vector<double>& reference_displacements() const { return reference_displacement_; }
+  const dealii::Vector<double>& reference_forces() const { return reference_force_; }
   /// The time step of the next update()s (s, > 0; viscous regions). Throws std::invalid_argument.
   void set_time_step(double dt) { problem_.set_time_step(dt); }
   double time_step() const { return problem_.time_step(); }
@@ -124,7 +138,8 @@ private:
   double raw_asymmetry_ = 0;
   dealii::Vector<double> contact_displacement_, contact_force_;
   dealii::Vector<double> reference_displacement_, reference_force_;
-  dealii::Vector<double> drift_; // viscous regions: history_drift() of the last update
+  dealii::Vector<double> drift_;         // viscous regions: history_drift() of the last update
+  dealii::Vector<double> contact_drift_; // its contact part (3 n_c)
   unsigned int n_recondensations_ = 0;
   double max_tolerated_error_ = 0, last_error_ = 0;
 };
