@@ -140,6 +140,37 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   pads_->attach(*stepper_);
   foot_model_->summarize(summary_);
   summary_.robot_mass = model_.total_mass();
+  if (scene_.control.stabilizer == StabilizerType::dcm) {
+    const ControlParameters& control = scene_.control;
+    walking::BalanceParameters balance = control.balance;
+    auto frame = [&](const std::string& name, const std::string& fallback,
+                     const std::string& parameter) {
+      const std::string& used = name.empty() ? fallback : name;
+      try {
+        return model_.frame_id(used);
+      } catch (const std::invalid_argument&) {
+        throw std::invalid_argument("Control/" + parameter + " = '" + used + "': not a link of " +
+                                    scene_.robot.urdf_file.string());
+      }
+    };
+    const walking::HumanoidDescription& names = scene_.robot.humanoid;
+    balance.sensors.imu_frame = frame(control.imu_frame, names.base_link, "IMU frame");
+    balance.sensors.force_frames = {
+        frame(control.force_frames[0], names.foot_links[0], "Right force sensor frame"),
+        frame(control.force_frames[1], names.foot_links[1], "Left force sensor frame")};
+    balance.sensors.encoder_q = joint_q_;
+    balance.stabilizer.sole_half_size =
+        Eigen::Vector2d(0.5 * scene_.sole.length - control.cop_margin,
+                        0.5 * scene_.sole.width - control.cop_margin)
+            .cwiseMax(0.0);
+    try {
+      balance_ = std::make_unique<walking::BalanceController>(model_, humanoid_, balance, dt, true);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("Control/Stabilizer = dcm: ") + e.what());
+    }
+    v_previous_ = Eigen::VectorXd::Zero(model_.nv);
+    acceleration_ = Eigen::VectorXd::Zero(model_.nv);
+  }
   summary_.n_pads = pads_->size();
   summary_.n_pad_nodes = pads_->max_contacts();
 
@@ -217,6 +248,27 @@ void HumanoidSimulation::step() {
   const double dt = summary_.time_step;
   const double t_next = (step_ + 1) * dt;
   reference_at(t_next, q_ref_);
+  if (balance_) {
+    acceleration_ = (v_ - v_previous_) / dt;
+    for (int foot = 0; foot < 2; ++foot) {
+      // About the world origin with the contacts on z = 0 (FootReport: sum f_z x, sum f_z y);
+      // the yaw moment is not reported (0).
+      const FootReport& r = foot_reports_[foot];
+      ground_wrenches_[foot] << r.force, r.moment.y(), -r.moment.x(), 0.0;
+    }
+    balance_->update(q_, v_, acceleration_, ground_wrenches_, q_ref_);
+    v_previous_ = v_;
+  }
+  const SimulationParameters& sim = scene_.simulation;
+  if (sim.push_magnitude > 0) {
+    const double t = step_ * dt;
+    const bool pushing = t >= sim.push_time && t < sim.push_time + sim.push_duration;
+    const Eigen::Quaterniond base(q_[6], q_[3], q_[4], q_[5]);
+    tau_.head<3>() =
+        pushing ? Eigen::Vector3d(base.toRotationMatrix().transpose() *
+                                  (sim.push_magnitude / sim.push_duration) * sim.push_direction)
+                : Eigen::Vector3d::Zero();
+  }
   for (int j = 0; j < humanoid_.n_joints(); ++j)
     v_ref_[joint_v_[j]] = (q_ref_[joint_q_[j]] - q_ref_prev_[joint_q_[j]]) / dt;
   q_ref_prev_ = q_ref_;
