@@ -114,7 +114,6 @@ const ChoiceTable<walking::StateEstimate> state_estimates{
     {walking::StateEstimate::kinematic, "kinematic"},
     {walking::StateEstimate::ground_truth, "ground truth"}};
 
-
 } // namespace
 
 const char* contact_solver_name(contact::ContactSolverType solver) {
@@ -472,7 +471,6 @@ void ControlParameters::declare(dealii::ParameterHandler& prm) {
                     "empty: Robot/Right foot link.");
   prm.declare_entry("Left force sensor frame", "", Anything(), "Same for the left foot.");
 }
-
 
 void ControlParameters::parse(dealii::ParameterHandler& prm) {
   stiffness = prm.get_double("Joint stiffness");
