@@ -124,6 +124,30 @@ TEST(StabilizerLoop, StepAllocatesNothing) {
   EXPECT_EQ(n, 0);
 }
 
+TEST(StabilizerScene, BadEntriesAreNamed) {
+  auto message = [](const std::vector<std::pair<std::string, std::string>>& overrides) {
+    try {
+      HumanoidSimulation sim(testing::load_humanoid_scene("push_stand", overrides));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string frame = message({{"Control/IMU frame", "NO_SUCH_LINK"}});
+  std::printf("%s\n", frame.c_str());
+  EXPECT_NE(frame.find("Control/IMU frame = 'NO_SUCH_LINK'"), std::string::npos) << frame;
+  const std::string sensor = message({{"Control/Right force sensor frame", "BODY"}});
+  std::printf("%s\n", sensor.c_str());
+  EXPECT_NE(sensor.find("force sensor frame 'BODY' is not on the foot's body"), std::string::npos)
+      << sensor;
+  const std::string duration = message({{"Simulation/Push duration", "0"}});
+  std::printf("%s\n", duration.c_str());
+  EXPECT_NE(duration.find("Simulation/Push duration = 0"), std::string::npos) << duration;
+  const std::string damping = message({{"Control/Foot damping", "0"}});
+  std::printf("%s\n", damping.c_str());
+  EXPECT_NE(damping.find("Control/Foot damping = 0"), std::string::npos) << damping;
+}
+
 class StabilizedWalk : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(StabilizedWalk, SixStepsCompleteAndTheEstimateFollowsTheTruth) {
