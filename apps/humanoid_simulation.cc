@@ -215,6 +215,13 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     for (const char* suffix : {"_fx", "_fy", "_fz", "_compression"})
       contact_columns.push_back(pads_->pad(i).name() + suffix);
   contacts_ = TimeSeries(contact_columns, rows);
+  if (balance_)
+    balance_series_ = TimeSeries({"t",         "dcm_x",         "dcm_y",         "dcm_ref_x",
+                                  "dcm_ref_y", "true_dcm_x",    "true_dcm_y",    "zmp_ref_x",
+                                  "zmp_ref_y", "zmp_desired_x", "zmp_desired_y", "com_x",
+                                  "com_y",     "com_z",         "right_roll",    "right_pitch",
+                                  "right_dz",  "left_roll",     "left_pitch",    "left_dz"},
+                                 rows);
   unconverged_ = UnconvergedSolves(n_steps_);
   summary_.time_step = dt;
   summary_.setup_wall_time = seconds_since(setup_start_);
@@ -444,6 +451,20 @@ void HumanoidSimulation::step() {
   cr[13] = report.n_contacts;
   cr[14] = report.solver.iterations;
   cr[15] = report.solver.residual;
+  if (balance_) {
+    const walking::BalanceStatistics& stats = balance_->statistics();
+    const Eigen::Vector2d& dcm_ref = balance_->reference_dcm();
+    const Eigen::Vector2d dcm = dcm_ref + stats.dcm_error;
+    const Eigen::Vector2d true_dcm = dcm_ref + stats.true_dcm_error;
+    const Eigen::Vector2d& zmp_ref = balance_->reference_zmp();
+    const Eigen::Vector2d& zmp_desired = balance_->stabilizer().desired_zmp();
+    const Eigen::Vector3d& com = balance_->estimator().com();
+    const auto& offsets = balance_->stabilizer().offsets();
+    auto br = balance_series_.append();
+    br << t, dcm.x(), dcm.y(), dcm_ref.x(), dcm_ref.y(), true_dcm.x(), true_dcm.y(), zmp_ref.x(),
+        zmp_ref.y(), zmp_desired.x(), zmp_desired.y(), com.x(), com.y(), com.z(), offsets[0].roll,
+        offsets[0].pitch, offsets[0].height, offsets[1].roll, offsets[1].pitch, offsets[1].height;
+  }
   for (int i = 0; i < pads_->size(); ++i) {
     const PadReport& pad = pad_reports_[i];
     cr[16 + 4 * i] = pad.force.x();
@@ -474,6 +495,8 @@ void HumanoidSimulation::write_csv(const std::filesystem::path& directory) const
   joints_.write_csv(directory / "joints.csv");
   contacts_.write_csv(directory / "contacts.csv");
   unconverged_.write_csv(directory / "unconverged_solves.csv");
+  if (balance_)
+    balance_series_.write_csv(directory / "balance.csv");
 }
 
 } // namespace plantar::app

@@ -74,8 +74,9 @@ public:
   const TimeSeries& contact_series() const { return contacts_; }
   /// The contact solves that stopped above Contact/Tolerance, in step order.
   const UnconvergedSolves& unconverged_solves() const { return unconverged_; }
-  /// Writes waist.csv, joints.csv, contacts.csv, unconverged_solves.csv into @p directory
-  /// (atomically).
+  /// Writes waist.csv, joints.csv, contacts.csv, unconverged_solves.csv (and, with
+  /// Control/Stabilizer = dcm, balance.csv: estimated, reference and true DCM, reference and
+  /// desired ZMP, estimated CoM, foot offsets) into @p directory (atomically).
   void write_csv(const std::filesystem::path& directory) const;
   const multibody::Model& model() const { return model_; }
   const Eigen::VectorXd& q() const { return q_; }
@@ -132,6 +133,7 @@ private:
   std::array<FootReport, 2> foot_reports_; ///< right, left: the last step's
   std::vector<PadReport> pad_reports_;     ///< per pad: the last step's
   TimeSeries waist_, joints_, contacts_;
+  TimeSeries balance_series_; ///< Stabilizer = dcm only (balance.csv)
   UnconvergedSolves unconverged_;
   HumanoidSummary summary_;
 };

@@ -68,6 +68,8 @@ public:
   const ComEstimator& estimator() const { return estimator_; }
   const DcmStabilizer& stabilizer() const { return stabilizer_; }
   double omega() const { return omega_; }
+  const Eigen::Vector2d& reference_dcm() const { return dcm_ref_; } ///< xi_ref (x, y), m
+  const Eigen::Vector2d& reference_zmp() const { return zmp_ref_; } ///< p_ref (filtered), m
 
 private:
   const multibody::Model& model_;
