@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -107,6 +108,11 @@ const ChoiceTable<contact::ContactSolverType> contact_solvers{
     {contact::ContactSolverType::automatic, "auto"}};
 const ChoiceTable<walking::LegIkMethod> leg_ik_methods{
     {walking::LegIkMethod::automatic, "automatic"}, {walking::LegIkMethod::numerical, "numerical"}};
+const ChoiceTable<StabilizerType> stabilizer_types{{StabilizerType::none, "none"},
+                                                   {StabilizerType::dcm, "dcm"}};
+const ChoiceTable<walking::StateEstimate> state_estimates{
+    {walking::StateEstimate::kinematic, "kinematic"},
+    {walking::StateEstimate::ground_truth, "ground truth"}};
 
 } // namespace
 
@@ -360,16 +366,134 @@ void ContactParameters::parse(dealii::ParameterHandler& prm) {
   require(tolerance > 0, "Contact/Tolerance", tolerance, "> 0");
 }
 
+namespace {
+
+/// The numbers of subsection Control's stabilizer, sensors and estimator: name, the member of
+/// @p c it sets, lower bound, whether the bound is excluded, help. One table for declare()
+/// and parse(), the defaults read from a default ControlParameters.
+struct ControlNumber {
+  const char* name;
+  double* (*member)(ControlParameters&);
+  double lower;
+  bool strict;
+  const char* help;
+};
+
+const std::vector<ControlNumber>& control_numbers() {
+  using C = ControlParameters;
+  static const std::vector<ControlNumber> table{
+      {"DCM gain", [](C& c) { return &c.balance.stabilizer.dcm_gain; }, 0, false,
+       "Stabilizer = dcm: k_p (1/s), the DCM error's closed-loop decay rate: desired ZMP p_d = "
+       "p_ref + (1 + k_p/omega) e + k_i E (docs/stabilizer.md)."},
+      {"DCM integral gain", [](C& c) { return &c.balance.stabilizer.dcm_integral_gain; }, 0, false,
+       "k_i (1/s) on the leaky integral E of the DCM error."},
+      {"DCM integral time constant",
+       [](C& c) { return &c.balance.stabilizer.integral_time_constant; }, 0, true,
+       "T_i (s): leak of the DCM error's integral, E' = e - E / T_i."},
+      {"Foot damping", [](C& c) { return &c.balance.stabilizer.foot_damping; }, 0, true,
+       "D (N m s/rad): foot damping control, rotation rate = CoP error x f_z / D (Kajita 2010)."},
+      {"Foot damping time constant", [](C& c) { return &c.balance.stabilizer.foot_time_constant; },
+       0, true, "T_c (s): the foot rotations return to 0 with this time constant."},
+      {"Force difference damping", [](C& c) { return &c.balance.stabilizer.force_damping; }, 0,
+       true,
+       "D_z (N s/m): foot force difference control, leg length rate = force difference "
+       "error / D_z (Kajita 2010)."},
+      {"Force difference time constant",
+       [](C& c) { return &c.balance.stabilizer.force_time_constant; }, 0, true,
+       "T_z (s): the leg length offset returns to 0 with this time constant."},
+      {"Max foot rotation", [](C& c) { return &c.balance.stabilizer.max_foot_rotation; }, 0, false,
+       "rad: clamp of each foot's roll and pitch offset."},
+      {"Max leg length offset", [](C& c) { return &c.balance.stabilizer.max_leg_offset; }, 0, false,
+       "m: clamp of the force difference control's leg length offset."},
+      {"Min contact force", [](C& c) { return &c.balance.stabilizer.min_contact_force; }, 0, false,
+       "N: a foot whose F/T sensor reads less has no CoP and does not anchor the estimate."},
+      {"CoP margin", [](C& c) { return &c.cop_margin; }, 0, false,
+       "m: CoP targets stay this far inside the sole outline (Sole/Length, Sole/Width)."},
+      {"ZMP filter time constant", [](C& c) { return &c.balance.zmp_time_constant; }, 0, true,
+       "s: low-pass of the reference ZMP p_ref = xi_ref - xi_ref' / omega (finite differences)."},
+      {"Velocity filter time constant",
+       [](C& c) { return &c.balance.estimator.velocity_time_constant; }, 0, false,
+       "s: low-pass of the estimated CoM velocity (finite difference of the kinematic CoM)."},
+      {"Contact height", [](C& c) { return &c.balance.contact_height; }, 0, true,
+       "m: a foot whose reference sole is within this of the ground may be in contact."},
+      {"IMU orientation noise", [](C& c) { return &c.balance.sensors.orientation.noise; }, 0, false,
+       "rad, standard deviation of the IMU orientation's white noise (rotation vector)."},
+      {"IMU orientation bias", [](C& c) { return &c.balance.sensors.orientation.bias; }, -1e300,
+       false, "rad, on each axis of the rotation vector."},
+      {"Gyro noise", [](C& c) { return &c.balance.sensors.angular_velocity.noise; }, 0, false,
+       "rad/s, standard deviation."},
+      {"Gyro bias", [](C& c) { return &c.balance.sensors.angular_velocity.bias; }, -1e300, false,
+       "rad/s."},
+      {"Accelerometer noise", [](C& c) { return &c.balance.sensors.linear_acceleration.noise; }, 0,
+       false, "m/s^2, standard deviation."},
+      {"Accelerometer bias", [](C& c) { return &c.balance.sensors.linear_acceleration.bias; },
+       -1e300, false, "m/s^2."},
+      {"Encoder noise", [](C& c) { return &c.balance.sensors.encoder.noise; }, 0, false,
+       "rad, standard deviation."},
+      {"Encoder bias", [](C& c) { return &c.balance.sensors.encoder.bias; }, -1e300, false, "rad."},
+      {"Force noise", [](C& c) { return &c.balance.sensors.force.noise; }, 0, false,
+       "N, standard deviation (F/T sensors)."},
+      {"Force bias", [](C& c) { return &c.balance.sensors.force.bias; }, -1e300, false, "N."},
+      {"Torque noise", [](C& c) { return &c.balance.sensors.torque.noise; }, 0, false,
+       "N m, standard deviation (F/T sensors)."},
+      {"Torque bias", [](C& c) { return &c.balance.sensors.torque.bias; }, -1e300, false, "N m."},
+  };
+  return table;
+}
+
+} // namespace
+
 void ControlParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Joint stiffness", "10000", Double(0),
                     "PD kp on every actuated joint (N m/rad): tau = kp (q_ref - q) + kd (v_ref - "
                     "v), applied implicitly by the stepper.");
   prm.declare_entry("Joint damping", "200", Double(0), "PD kd (N m s/rad).");
+  ControlParameters d;
+  prm.declare_entry("Stabilizer", choice_name(stabilizer_types, d.stabilizer),
+                    choice_pattern(stabilizer_types),
+                    "none: PD playback of the reference (the paper's); dcm: the sensor-based "
+                    "DCM stabilizer changing the joint references (docs/stabilizer.md).");
+  prm.declare_entry("State estimate", choice_name(state_estimates, d.balance.estimate),
+                    choice_pattern(state_estimates),
+                    "kinematic: CoM and DCM from encoders, IMU orientation and the F/T "
+                    "sensors' contact anchoring; ground truth: the simulator's (comparison).");
+  for (const ControlNumber& entry : control_numbers())
+    prm.declare_entry(entry.name, number_text(*entry.member(d)),
+                      entry.lower < -1e299 ? Double() : Double(entry.lower), entry.help);
+  prm.declare_entry("Sensor delay", std::to_string(d.balance.sensors.delay), Integer(0, 1000),
+                    "Every sensor's delay in control periods (= Simulation/Time step).");
+  prm.declare_entry("Sensor seed", std::to_string(d.balance.sensors.seed), Integer(0),
+                    "Seed of the sensors' noise generator.");
+  prm.declare_entry("IMU frame", "", Anything(),
+                    "Frame (URDF link) of the IMU; empty: Robot/Base link.");
+  prm.declare_entry("Right force sensor frame", "", Anything(),
+                    "Frame of the right ankle's 6-axis F/T sensor, on the foot link's body; "
+                    "empty: Robot/Right foot link.");
+  prm.declare_entry("Left force sensor frame", "", Anything(), "Same for the left foot.");
 }
 
 void ControlParameters::parse(dealii::ParameterHandler& prm) {
   stiffness = prm.get_double("Joint stiffness");
   damping = prm.get_double("Joint damping");
+  stabilizer = parse_choice(stabilizer_types, prm.get("Stabilizer"), "Control/Stabilizer");
+  balance.estimate =
+      parse_choice(state_estimates, prm.get("State estimate"), "Control/State estimate");
+  for (const ControlNumber& entry : control_numbers()) {
+    const double value = prm.get_double(entry.name);
+    require(entry.strict ? value > entry.lower : value >= entry.lower,
+            std::string("Control/") + entry.name, value,
+            (entry.strict ? "> " : ">= ") + number_text(entry.lower));
+    *entry.member(*this) = value;
+  }
+  balance.sensors.delay = prm.get_integer("Sensor delay");
+  require(balance.sensors.delay >= 0 && balance.sensors.delay <= 1000, "Control/Sensor delay",
+          balance.sensors.delay, "in [0, 1000] control periods");
+  const long seed = prm.get_integer("Sensor seed");
+  require(seed >= 0 && seed <= 4294967295L, "Control/Sensor seed", static_cast<double>(seed),
+          "in [0, 2^32 - 1]");
+  balance.sensors.seed = static_cast<std::uint32_t>(seed);
+  imu_frame = prm.get("IMU frame");
+  force_frames = {prm.get("Right force sensor frame"), prm.get("Left force sensor frame")};
 }
 
 void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
@@ -458,6 +582,17 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
                     "The run fails (non-zero exit) if the waist goes below this height (m).");
   prm.declare_entry("Max penetration", "0.005", Double(0),
                     "The run fails if a contact point sinks deeper than this into the ground (m).");
+  const SimulationParameters d;
+  prm.declare_entry("Push time", number_text(d.push_time), Double(0),
+                    "s: start of a push on the waist (base origin).");
+  prm.declare_entry("Push direction",
+                    number_text(d.push_direction.x()) + ", " + number_text(d.push_direction.y()) +
+                        ", " + number_text(d.push_direction.z()),
+                    Anything(), "'x, y, z' (world axes, normalised): direction of the push.");
+  prm.declare_entry("Push magnitude", number_text(d.push_magnitude), Double(0),
+                    "N s: impulse of the push, a constant force over Push duration; 0: no push.");
+  prm.declare_entry("Push duration", number_text(d.push_duration), Double(0),
+                    "s, > 0: duration of the push.");
 }
 
 void SimulationParameters::parse(dealii::ParameterHandler& prm) {
@@ -469,6 +604,15 @@ void SimulationParameters::parse(dealii::ParameterHandler& prm) {
   drop_posture = parse_posture(prm.get("Drop posture"), "Simulation/Drop posture");
   fall_height = prm.get_double("Fall height");
   max_penetration = prm.get_double("Max penetration");
+  push_time = prm.get_double("Push time");
+  const std::vector<double> direction =
+      parse_numbers(prm.get("Push direction"), "Simulation/Push direction", 3, 3);
+  push_direction << direction[0], direction[1], direction[2];
+  require(push_direction.norm() > 0, "Simulation/Push direction |.|", push_direction.norm(), "> 0");
+  push_direction.normalize();
+  push_magnitude = prm.get_double("Push magnitude");
+  push_duration = prm.get_double("Push duration");
+  require(push_duration > 0, "Simulation/Push duration", push_duration, "> 0 s");
   require(time_step > 0, "Simulation/Time step", time_step, "in (0, 0.01]");
   require(max_penetration > 0, "Simulation/Max penetration", max_penetration, "> 0");
 }

@@ -7,12 +7,14 @@
 #include "apps/foot_model_registry.h"
 #include "contact/solver_settings.h"
 #include "fem/sole_parameters.h"
+#include "multibody/walking/balance_controller.h"
 #include "multibody/walking/footstep_plan.h"
 #include "multibody/walking/humanoid.h"
 #include "multibody/walking/leg_solver.h"
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -99,11 +101,25 @@ struct ContactParameters {
   void parse(dealii::ParameterHandler& prm);
 };
 
-/// Subsection "Control": PD tracking of the joint reference (no stabilizer), same gains on
-/// every actuated joint: tau = kp (q_ref - q) + kd (v_ref - v).
+/// Control/Stabilizer.
+enum class StabilizerType {
+  none, ///< PD playback of the reference (the paper's)
+  dcm,  ///< sensors -> estimator -> DCM stabilizer -> joint references (docs/stabilizer.md)
+};
+
+/// Subsection "Control": PD tracking of the joint reference, same gains on every actuated
+/// joint: tau = kp (q_ref - q) + kd (v_ref - v); optionally a balance stabilizer that only
+/// changes q_ref (multibody/walking/balance_controller.h), with its sensors and estimator.
 struct ControlParameters {
   double stiffness = 1e4; ///< kp, N m/rad, >= 0
   double damping = 200;   ///< kd, N m s/rad, >= 0
+  StabilizerType stabilizer = StabilizerType::none;
+  /// Gains, filters, estimator and sensor noise (frame indices are set by the simulation
+  /// from the names below).
+  walking::BalanceParameters balance;
+  double cop_margin = 0.01;                  ///< m: CoP targets this far inside the sole outline
+  std::string imu_frame;                     ///< empty: Robot/Base link
+  std::array<std::string, 2> force_frames{}; ///< right, left; empty: the foot links
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };
@@ -129,7 +145,13 @@ struct LeanSceneParameters {
 
 /// Subsection "Simulation".
 struct SimulationParameters {
-  double time_step = 1e-3;      ///< dt, s, (0, 0.01]
+  /// A push on the waist (base origin): force (magnitude / duration) along the unit
+  /// direction, world axes, during [push_time, push_time + push_duration).
+  double push_time = 1.0;                                    ///< s, >= 0
+  Eigen::Vector3d push_direction = Eigen::Vector3d::UnitX(); ///< normalised when parsed
+  double push_magnitude = 0;                                 ///< impulse, N s, >= 0 (0: no push)
+  double push_duration = 0.1;                                ///< s, > 0
+  double time_step = 1e-3;                                   ///< dt, s, (0, 0.01]
   double theta = 1.0;           ///< Moreau-Jean theta, [0.5, 1] (multibody/stepper.h)
   double duration = 0;          ///< s, >= 0; 0: the whole reference (lean, walk), 5 s (stand, drop)
   double settle_time = 1.0;     ///< s, stand: time allowed to settle before the 1 mm window

@@ -140,6 +140,37 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   pads_->attach(*stepper_);
   foot_model_->summarize(summary_);
   summary_.robot_mass = model_.total_mass();
+  if (scene_.control.stabilizer == StabilizerType::dcm) {
+    const ControlParameters& control = scene_.control;
+    walking::BalanceParameters balance = control.balance;
+    auto frame = [&](const std::string& name, const std::string& fallback,
+                     const std::string& parameter) {
+      const std::string& used = name.empty() ? fallback : name;
+      try {
+        return model_.frame_id(used);
+      } catch (const std::invalid_argument&) {
+        throw std::invalid_argument("Control/" + parameter + " = '" + used + "': not a link of " +
+                                    scene_.robot.urdf_file.string());
+      }
+    };
+    const walking::HumanoidDescription& names = scene_.robot.humanoid;
+    balance.sensors.imu_frame = frame(control.imu_frame, names.base_link, "IMU frame");
+    balance.sensors.force_frames = {
+        frame(control.force_frames[0], names.foot_links[0], "Right force sensor frame"),
+        frame(control.force_frames[1], names.foot_links[1], "Left force sensor frame")};
+    balance.sensors.encoder_q = joint_q_;
+    balance.stabilizer.sole_half_size =
+        Eigen::Vector2d(0.5 * scene_.sole.length - control.cop_margin,
+                        0.5 * scene_.sole.width - control.cop_margin)
+            .cwiseMax(0.0);
+    try {
+      balance_ = std::make_unique<walking::BalanceController>(model_, humanoid_, balance, dt, true);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("Control/Stabilizer = dcm: ") + e.what());
+    }
+    v_previous_ = Eigen::VectorXd::Zero(model_.nv);
+    acceleration_ = Eigen::VectorXd::Zero(model_.nv);
+  }
   summary_.n_pads = pads_->size();
   summary_.n_pad_nodes = pads_->max_contacts();
 
@@ -184,6 +215,13 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     for (const char* suffix : {"_fx", "_fy", "_fz", "_compression"})
       contact_columns.push_back(pads_->pad(i).name() + suffix);
   contacts_ = TimeSeries(contact_columns, rows);
+  if (balance_)
+    balance_series_ = TimeSeries({"t",         "dcm_x",         "dcm_y",         "dcm_ref_x",
+                                  "dcm_ref_y", "true_dcm_x",    "true_dcm_y",    "zmp_ref_x",
+                                  "zmp_ref_y", "zmp_desired_x", "zmp_desired_y", "com_x",
+                                  "com_y",     "com_z",         "right_roll",    "right_pitch",
+                                  "right_dz",  "left_roll",     "left_pitch",    "left_dz"},
+                                 rows);
   unconverged_ = UnconvergedSolves(n_steps_);
   summary_.time_step = dt;
   summary_.setup_wall_time = seconds_since(setup_start_);
@@ -217,6 +255,27 @@ void HumanoidSimulation::step() {
   const double dt = summary_.time_step;
   const double t_next = (step_ + 1) * dt;
   reference_at(t_next, q_ref_);
+  if (balance_) {
+    acceleration_ = (v_ - v_previous_) / dt;
+    for (int foot = 0; foot < 2; ++foot) {
+      // About the world origin with the contacts on z = 0 (FootReport: sum f_z x, sum f_z y);
+      // the yaw moment is not reported (0).
+      const FootReport& r = foot_reports_[foot];
+      ground_wrenches_[foot] << r.force, r.moment.y(), -r.moment.x(), 0.0;
+    }
+    balance_->update(q_, v_, acceleration_, ground_wrenches_, q_ref_);
+    v_previous_ = v_;
+  }
+  const SimulationParameters& sim = scene_.simulation;
+  if (sim.push_magnitude > 0) {
+    const double t = step_ * dt;
+    const bool pushing = t >= sim.push_time && t < sim.push_time + sim.push_duration;
+    const Eigen::Quaterniond base(q_[6], q_[3], q_[4], q_[5]);
+    tau_.head<3>() =
+        pushing ? Eigen::Vector3d(base.toRotationMatrix().transpose() *
+                                  (sim.push_magnitude / sim.push_duration) * sim.push_direction)
+                : Eigen::Vector3d::Zero();
+  }
   for (int j = 0; j < humanoid_.n_joints(); ++j)
     v_ref_[joint_v_[j]] = (q_ref_[joint_q_[j]] - q_ref_prev_[joint_q_[j]]) / dt;
   q_ref_prev_ = q_ref_;
@@ -392,6 +451,20 @@ void HumanoidSimulation::step() {
   cr[13] = report.n_contacts;
   cr[14] = report.solver.iterations;
   cr[15] = report.solver.residual;
+  if (balance_) {
+    const walking::BalanceStatistics& stats = balance_->statistics();
+    const Eigen::Vector2d& dcm_ref = balance_->reference_dcm();
+    const Eigen::Vector2d dcm = dcm_ref + stats.dcm_error;
+    const Eigen::Vector2d true_dcm = dcm_ref + stats.true_dcm_error;
+    const Eigen::Vector2d& zmp_ref = balance_->reference_zmp();
+    const Eigen::Vector2d& zmp_desired = balance_->stabilizer().desired_zmp();
+    const Eigen::Vector3d& com = balance_->estimator().com();
+    const auto& offsets = balance_->stabilizer().offsets();
+    auto br = balance_series_.append();
+    br << t, dcm.x(), dcm.y(), dcm_ref.x(), dcm_ref.y(), true_dcm.x(), true_dcm.y(), zmp_ref.x(),
+        zmp_ref.y(), zmp_desired.x(), zmp_desired.y(), com.x(), com.y(), com.z(), offsets[0].roll,
+        offsets[0].pitch, offsets[0].height, offsets[1].roll, offsets[1].pitch, offsets[1].height;
+  }
   for (int i = 0; i < pads_->size(); ++i) {
     const PadReport& pad = pad_reports_[i];
     cr[16 + 4 * i] = pad.force.x();
@@ -422,6 +495,8 @@ void HumanoidSimulation::write_csv(const std::filesystem::path& directory) const
   joints_.write_csv(directory / "joints.csv");
   contacts_.write_csv(directory / "contacts.csv");
   unconverged_.write_csv(directory / "unconverged_solves.csv");
+  if (balance_)
+    balance_series_.write_csv(directory / "balance.csv");
 }
 
 } // namespace plantar::app

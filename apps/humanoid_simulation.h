@@ -4,7 +4,12 @@
 // Records CSV time series and the paper's figures.
 //
 // Per step n (t_n = n dt -> t_{n+1}):
-//   q_ref = reference(t_{n+1}),  v_ref = (reference(t_{n+1}) - reference(t_n)) / dt
+//   q_ref = reference(t_{n+1})
+//   Control/Stabilizer = dcm: q_ref += the balance loop's leg offsets from the sensors at t_n
+//   (multibody/walking/balance_controller.h; the feet's wrenches of step n-1, the acceleration
+//   (v_n - v_n-1) / dt)
+//   v_ref = (q_ref,n+1 - q_ref,n) / dt
+//   Simulation/Push magnitude > 0: a constant force on the base origin during the push
 //   Stepper::step (implicit PD: tau = kp (q_ref - q+) + kd (v_ref - v+), the torque recorded)
 //   waist velocity (world) v_w = R_base v_base,lin;  acceleration a_n = (v_w,n+1 - v_w,n) / dt
 //   (backward difference of consecutive step velocities; v_w,0 = 0 at rest)
@@ -29,6 +34,7 @@
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/stepper.h"
+#include "multibody/walking/balance_controller.h"
 #include "multibody/walking/humanoid.h"
 #include "multibody/walking/joint_reference.h"
 
@@ -68,8 +74,9 @@ public:
   const TimeSeries& contact_series() const { return contacts_; }
   /// The contact solves that stopped above Contact/Tolerance, in step order.
   const UnconvergedSolves& unconverged_solves() const { return unconverged_; }
-  /// Writes waist.csv, joints.csv, contacts.csv, unconverged_solves.csv into @p directory
-  /// (atomically).
+  /// Writes waist.csv, joints.csv, contacts.csv, unconverged_solves.csv (and, with
+  /// Control/Stabilizer = dcm, balance.csv: estimated, reference and true DCM, reference and
+  /// desired ZMP, estimated CoM, foot offsets) into @p directory (atomically).
   void write_csv(const std::filesystem::path& directory) const;
   const multibody::Model& model() const { return model_; }
   const Eigen::VectorXd& q() const { return q_; }
@@ -83,6 +90,9 @@ public:
   const FootModel& foot_model() const { return *foot_model_; }
   /// The deformable pads (possibly none).
   const PadSet& pads() const { return *pads_; }
+  /// The balance loop of Control/Stabilizer = dcm (sensors, estimator, stabilizer); nullptr
+  /// for none.
+  const walking::BalanceController* balance() const { return balance_.get(); }
   /// Calls @p hook at the end of every step() whose count is a multiple of @p every (>= 1)
   /// and at the last step, after that step's failure checks. The hook may allocate.
   void set_output_hook(int every, std::function<void(const HumanoidSimulation&)> hook) {
@@ -105,6 +115,7 @@ private:
   std::unique_ptr<multibody::Stepper> stepper_;
   multibody::Data data_;
   std::unique_ptr<PadSet> pads_;
+  std::unique_ptr<walking::BalanceController> balance_;
   std::array<int, 2> sole_frames_{};
   std::vector<int> joint_q_, joint_v_; ///< per controlled joint
   int n_steps_ = 0, step_ = 0;
@@ -114,12 +125,15 @@ private:
 
   // Workspaces.
   Eigen::VectorXd q_, v_, q_ref_, q_ref_prev_, v_ref_, tau_;
-  Eigen::VectorXd angles_; ///< controlled joints
+  Eigen::VectorXd angles_;                    ///< controlled joints
+  Eigen::VectorXd v_previous_, acceleration_; ///< balance loop: v_n-1, (v_n - v_n-1) / dt
+  std::array<multibody::Vector6d, 2> ground_wrenches_{}; ///< balance loop, per foot
   Eigen::Vector3d waist_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d settle_position_ = Eigen::Vector3d::Zero();
   std::array<FootReport, 2> foot_reports_; ///< right, left: the last step's
   std::vector<PadReport> pad_reports_;     ///< per pad: the last step's
   TimeSeries waist_, joints_, contacts_;
+  TimeSeries balance_series_; ///< Stabilizer = dcm only (balance.csv)
   UnconvergedSolves unconverged_;
   HumanoidSummary summary_;
 };

@@ -1,0 +1,137 @@
+#include "multibody/walking/balance_controller.h"
+
+#include "multibody/center_of_mass.h"
+#include "multibody/jacobian.h"
+#include "multibody/kinematics.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace plantar::walking {
+namespace {
+
+/// omega of the reference at q: sqrt(g / (c_z - mean sole height)).
+double reference_omega(const multibody::Model& model, const Humanoid& humanoid,
+                       multibody::Data& data, const Eigen::Ref<const Eigen::VectorXd>& q) {
+  multibody::forward_kinematics(model, data, q);
+  const double ground =
+      0.5 * (multibody::frame_placement(model, data, humanoid.sole_frames[0]).translation.z() +
+             multibody::frame_placement(model, data, humanoid.sole_frames[1]).translation.z());
+  const double height = multibody::center_of_mass(model, data).z() - ground;
+  if (!(height > 0))
+    throw std::invalid_argument("BalanceController: the reference's CoM is not above its soles");
+  return std::sqrt(-model.gravity.z() / height);
+}
+
+} // namespace
+
+BalanceController::BalanceController(const multibody::Model& model, const Humanoid& humanoid,
+                                     const BalanceParameters& parameters, double dt, bool stabilize)
+    : model_(model), humanoid_(humanoid), parameters_(parameters), dt_(dt), stabilize_(stabilize),
+      sensors_(model, parameters.sensors),
+      estimator_(model, humanoid, parameters.sensors.imu_frame, parameters.estimator, dt),
+      stabilizer_(parameters.stabilizer), reference_data_(model), true_data_(model),
+      jacobian_(6, model.nv) {
+  if (!(parameters.zmp_time_constant > 0 && parameters.contact_height > 0))
+    throw std::invalid_argument("BalanceController: ZMP time constant and contact height > 0");
+  for (int foot = 0; foot < 2; ++foot) {
+    const multibody::Frame& sole = model.frames[humanoid.sole_frames[foot]];
+    const multibody::Frame& sensor = model.frames[parameters.sensors.force_frames[foot]];
+    if (sole.body != sensor.body)
+      throw std::invalid_argument(
+          "BalanceController: the " + std::string(to_string(leg_sides[foot])) +
+          " force sensor frame '" + sensor.name + "' is not on the foot's body");
+    sensor_in_sole_[foot] = sole.placement.inverse() * sensor.placement;
+  }
+}
+
+void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
+                               const Eigen::Ref<const Eigen::VectorXd>& v,
+                               const Eigen::Ref<const Eigen::VectorXd>& a,
+                               const std::array<multibody::Vector6d, 2>& ground_wrenches,
+                               Eigen::Ref<Eigen::VectorXd> q_ref) {
+  // Reference: CoM, DCM, ZMP, soles.
+  if (first_) {
+    omega_ = reference_omega(model_, humanoid_, reference_data_, q_ref);
+    DcmStabilizerParameters p = parameters_.stabilizer;
+    p.omega = omega_;
+    stabilizer_ = DcmStabilizer(p);
+  }
+  multibody::forward_kinematics(model_, reference_data_, q_ref);
+  const Eigen::Vector3d com_ref = multibody::center_of_mass(model_, reference_data_);
+  const Eigen::Vector3d com_ref_velocity =
+      first_ ? Eigen::Vector3d::Zero() : Eigen::Vector3d((com_ref - com_ref_) / dt_);
+  const Eigen::Vector2d dcm_ref = (com_ref + com_ref_velocity / omega_).head<2>();
+  const Eigen::Vector2d zmp_now =
+      first_ ? dcm_ref : Eigen::Vector2d(dcm_ref - (dcm_ref - dcm_ref_) / (dt_ * omega_));
+  if (first_)
+    zmp_ref_ = zmp_now;
+  else
+    zmp_ref_ += dt_ / (parameters_.zmp_time_constant + dt_) * (zmp_now - zmp_ref_);
+  com_ref_ = com_ref;
+  dcm_ref_ = dcm_ref;
+  std::array<Eigen::Vector3d, 2> soles;
+  for (int foot = 0; foot < 2; ++foot) {
+    const multibody::SE3 sole =
+        multibody::frame_placement(model_, reference_data_, humanoid_.sole_frames[foot]);
+    soles[foot] = sole.translation;
+    feet_[foot].position = sole.translation;
+    feet_[foot].rotation = sole.rotation;
+    if (first_)
+      ground_height_[foot] = sole.translation.z();
+  }
+
+  // Sensors.
+  multibody::forward_kinematics(model_, true_data_, q, v, a);
+  const multibody::sensors::SensorReadings& readings =
+      sensors_.measure(true_data_, q, ground_wrenches);
+  std::array<double, 2> normal{};
+  for (int foot = 0; foot < 2; ++foot) {
+    const multibody::Vector6d at_sole =
+        sensor_in_sole_[foot].act_force(readings.foot_wrenches[foot]);
+    feet_[foot].force = at_sole.head<3>();
+    feet_[foot].moment = at_sole.tail<3>();
+    normal[foot] = at_sole[2];
+    feet_[foot].contact = soles[foot].z() - ground_height_[foot] < parameters_.contact_height &&
+                          normal[foot] > parameters_.stabilizer.min_contact_force;
+  }
+
+  // Estimate (and the truth, for the statistics).
+  const Eigen::Vector3d com_true = multibody::center_of_mass(model_, true_data_);
+  const Eigen::Vector3d com_true_velocity =
+      multibody::center_of_mass_jacobian(model_, true_data_) * v;
+  if (parameters_.estimate == StateEstimate::ground_truth)
+    estimator_.set(com_true, com_true_velocity);
+  else
+    estimator_.update(readings.encoders, readings.imu.orientation, soles, normal);
+  const Eigen::Vector2d dcm = estimator_.dcm(omega_).head<2>();
+  const Eigen::Vector2d dcm_true = (com_true + com_true_velocity / omega_).head<2>();
+  statistics_.dcm_error = dcm - dcm_ref;
+  statistics_.true_dcm_error = dcm_true - dcm_ref;
+  statistics_.max_dcm_error = std::max(statistics_.max_dcm_error, statistics_.dcm_error.norm());
+  statistics_.max_com_estimate_error =
+      std::max(statistics_.max_com_estimate_error, (estimator_.com() - com_true).norm());
+  statistics_.max_dcm_estimate_error =
+      std::max(statistics_.max_dcm_estimate_error, (dcm - dcm_true).norm());
+  first_ = false;
+  if (!stabilize_)
+    return;
+
+  // Stabilizer and joint references.
+  stabilizer_.update(dcm, dcm_ref, zmp_ref_, feet_, dt_);
+  for (int foot = 0; foot < 2; ++foot) {
+    const FootOffset& o = stabilizer_.offsets()[foot];
+    multibody::frame_jacobian(model_, reference_data_, humanoid_.sole_frames[foot], jacobian_);
+    for (int j = 0; j < 6; ++j)
+      leg_jacobian_.col(j) = jacobian_.col(model_.idx_v[humanoid_.leg_joints[foot][j]]);
+    multibody::Vector6d motion;
+    motion.head<3>() << 0, 0, o.height;
+    motion.tail<3>() = feet_[foot].rotation * Eigen::Vector3d(o.roll, o.pitch, 0);
+    leg_lu_.compute(leg_jacobian_);
+    const multibody::Vector6d dq = leg_lu_.solve(motion);
+    for (int j = 0; j < 6; ++j)
+      q_ref[model_.idx_q[humanoid_.leg_joints[foot][j]]] += dq[j];
+  }
+}
+
+} // namespace plantar::walking

@@ -1,0 +1,96 @@
+#pragma once
+// The sensor-based balance loop of a humanoid, called once per control period before the PD
+// step: sensors (multibody/sensors/robot_sensors.h) -> CoM/DCM estimate (com_estimator.h, or
+// the ground truth when asked) -> DCM stabilizer (dcm_stabilizer.h) -> joint references.
+// The reference's own DCM and ZMP come from the reference configuration q_ref:
+//   c_ref = CoM(q_ref),  c_ref' = (c_ref,n - c_ref,n-1) / dt,  xi_ref = c_ref + c_ref' / omega,
+//   p_ref = xi_ref - xi_ref' / omega, low-passed with time constant T_p (the finite
+//   difference of an interpolated reference is rough).
+// A foot is in contact when its reference sole is within contact_height of its height at
+// t = 0 and its F/T sensor reads more than the stabilizer's min_contact_force.
+// Foot offsets become joint references through each leg's Jacobian at q_ref (sole frame,
+// world-aligned axes, the leg's 6 joints): dq_leg = J_leg^-1 [0, 0, dz, R_sole (roll, pitch,
+// 0)], added to q_ref's leg joints. Allocates nothing after construction.
+
+#include "multibody/data.h"
+#include "multibody/model.h"
+#include "multibody/sensors/robot_sensors.h"
+#include "multibody/spatial.h"
+#include "multibody/walking/com_estimator.h"
+#include "multibody/walking/dcm_stabilizer.h"
+#include "multibody/walking/humanoid.h"
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include <array>
+
+namespace plantar::walking {
+
+/// Where the CoM and DCM fed back come from.
+enum class StateEstimate {
+  kinematic,    ///< encoders + IMU + F/T anchoring (com_estimator.h)
+  ground_truth, ///< the simulator's state (for comparison only)
+};
+
+struct BalanceParameters {
+  multibody::sensors::RobotSensorParameters sensors;
+  StateEstimate estimate = StateEstimate::kinematic;
+  ComEstimatorParameters estimator;
+  DcmStabilizerParameters stabilizer; ///< its omega is set from the reference's CoM height
+  double zmp_time_constant = 0.02;    ///< T_p, s, > 0
+  double contact_height = 0.002;      ///< m, > 0
+};
+
+/// Running figures of the loop (for summaries and tests).
+struct BalanceStatistics {
+  double max_dcm_error = 0;                            ///< m, max |xi_est - xi_ref| (horizontal)
+  double max_com_estimate_error = 0;                   ///< m, max |c_est - c_true|
+  double max_dcm_estimate_error = 0;                   ///< m, max |xi_est - xi_true| (horizontal)
+  Eigen::Vector2d dcm_error = Eigen::Vector2d::Zero(); ///< last xi_est - xi_ref
+  Eigen::Vector2d true_dcm_error = Eigen::Vector2d::Zero(); ///< last xi_true - xi_ref
+};
+
+class BalanceController {
+public:
+  /// @p model (outlives this) and @p humanoid resolved on it; @p dt the control period (s).
+  BalanceController(const multibody::Model& model, const Humanoid& humanoid,
+                    const BalanceParameters& parameters, double dt, bool stabilize);
+  /// One control period at the state (q, v) with generalized acceleration @p a (nv) and the
+  /// ground's wrench on each foot ([f; n] about the world origin, world axes): measures,
+  /// estimates and, when stabilizing, adds the leg offsets to @p q_ref (nq, modified in place).
+  void update(const Eigen::Ref<const Eigen::VectorXd>& q,
+              const Eigen::Ref<const Eigen::VectorXd>& v,
+              const Eigen::Ref<const Eigen::VectorXd>& a,
+              const std::array<multibody::Vector6d, 2>& ground_wrenches,
+              Eigen::Ref<Eigen::VectorXd> q_ref);
+  const BalanceStatistics& statistics() const { return statistics_; }
+  const ComEstimator& estimator() const { return estimator_; }
+  const DcmStabilizer& stabilizer() const { return stabilizer_; }
+  double omega() const { return omega_; }
+  const Eigen::Vector2d& reference_dcm() const { return dcm_ref_; } ///< xi_ref (x, y), m
+  const Eigen::Vector2d& reference_zmp() const { return zmp_ref_; } ///< p_ref (filtered), m
+
+private:
+  const multibody::Model& model_;
+  const Humanoid& humanoid_;
+  BalanceParameters parameters_;
+  double dt_, omega_ = 0;
+  bool stabilize_;
+  multibody::sensors::RobotSensors sensors_;
+  ComEstimator estimator_;
+  DcmStabilizer stabilizer_;
+  multibody::Data reference_data_, true_data_;
+  std::array<multibody::SE3, 2> sensor_in_sole_; ///< F/T sensor frame -> sole frame
+  std::array<double, 2> ground_height_{};
+  bool first_ = true;
+  Eigen::Vector3d com_ref_ = Eigen::Vector3d::Zero();
+  Eigen::Vector2d dcm_ref_ = Eigen::Vector2d::Zero(), zmp_ref_ = Eigen::Vector2d::Zero();
+  std::array<StabilizerFoot, 2> feet_{};
+  Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
+  multibody::Matrix6d leg_jacobian_;
+  Eigen::PartialPivLU<multibody::Matrix6d> leg_lu_;
+  BalanceStatistics statistics_;
+};
+
+} // namespace plantar::walking

@@ -1,0 +1,72 @@
+#include "multibody/walking/com_estimator.h"
+
+#include "multibody/center_of_mass.h"
+#include "multibody/kinematics.h"
+
+#include <Eigen/Geometry>
+
+#include <stdexcept>
+
+namespace plantar::walking {
+
+ComEstimator::ComEstimator(const multibody::Model& model, const Humanoid& humanoid, int imu_frame,
+                           const ComEstimatorParameters& parameters, double dt)
+    : model_(model), parameters_(parameters), data_(model), q_(model.neutral_configuration()),
+      imu_frame_(imu_frame), sole_frames_(humanoid.sole_frames), dt_(dt),
+      filter_(dt / (parameters.velocity_time_constant + dt)) {
+  if (!model.has_free_base())
+    throw std::invalid_argument("ComEstimator: the model has no free base");
+  if (dt <= 0 || parameters.velocity_time_constant < 0)
+    throw std::invalid_argument("ComEstimator: dt > 0 and a velocity time constant >= 0 needed");
+  for (int joint : humanoid.joints)
+    joint_q_.push_back(model.idx_q[joint]);
+}
+
+void ComEstimator::update(const Eigen::Ref<const Eigen::VectorXd>& encoders,
+                          const Eigen::Matrix3d& imu_orientation,
+                          const std::array<Eigen::Vector3d, 2>& reference_soles,
+                          const std::array<double, 2>& normal_forces) {
+  for (std::size_t j = 0; j < joint_q_.size(); ++j)
+    q_[joint_q_[j]] = encoders[j];
+  // Base orientation: the IMU's, through the kinematics from the base to the IMU frame.
+  q_.head<3>().setZero();
+  q_.segment<4>(3) << 0, 0, 0, 1;
+  multibody::forward_kinematics(model_, data_, q_);
+  const Eigen::Matrix3d imu_in_base =
+      multibody::frame_placement(model_, data_, imu_frame_).rotation;
+  const Eigen::Quaterniond base(Eigen::Matrix3d(imu_orientation * imu_in_base.transpose()));
+  q_.segment<4>(3) << base.x(), base.y(), base.z(), base.w();
+  multibody::forward_kinematics(model_, data_, q_);
+
+  const double total = normal_forces[0] + normal_forces[1];
+  if (normal_forces[0] >= parameters_.min_contact_force ||
+      normal_forces[1] >= parameters_.min_contact_force) {
+    for (int foot = 0; foot < 2; ++foot)
+      weights_[foot] =
+          normal_forces[foot] >= parameters_.min_contact_force ? normal_forces[foot] / total : 0.0;
+    const double sum = weights_[0] + weights_[1];
+    weights_[0] /= sum;
+    weights_[1] /= sum;
+  }
+  Eigen::Vector3d base_position = Eigen::Vector3d::Zero();
+  for (int foot = 0; foot < 2; ++foot)
+    base_position += weights_[foot] *
+                     (reference_soles[foot] -
+                      multibody::frame_placement(model_, data_, sole_frames_[foot]).translation);
+  const Eigen::Vector3d com = multibody::center_of_mass(model_, data_) + base_position;
+  if (first_) {
+    com_velocity_.setZero();
+    first_ = false;
+  } else {
+    com_velocity_ += filter_ * ((com - com_) / dt_ - com_velocity_);
+  }
+  com_ = com;
+}
+
+void ComEstimator::set(const Eigen::Vector3d& com, const Eigen::Vector3d& com_velocity) {
+  com_ = com;
+  com_velocity_ = com_velocity;
+  first_ = false;
+}
+
+} // namespace plantar::walking

@@ -1,0 +1,63 @@
+#pragma once
+// Centre of mass and divergent component of motion (DCM) of a humanoid from what it senses:
+// joint encoders, the IMU's orientation and the feet's normal forces (kinematic-inertial
+// estimate anchored on the contact feet, as in Caron et al. 2019's LIPM stabilizer):
+//   q_est: the controlled joints from the encoders (passive joints, e.g. compliant ankles, at
+//          rest: not sensed), base orientation R_b = R_imu (R_b^T R_imu)^T|_kinematics,
+//          base position p_b so that the force-weighted anchor of the soles sits on the
+//          reference's:  p_b = sum_i w_i (s_i,ref - s_i(q_est; p_b = 0)),  w_i = f_i / sum f
+//          (feet with f_i < min_contact_force do not anchor; no loaded foot: the last weights)
+//   c = CoM(q_est),  c' = low-pass (time constant tau) of (c_n - c_{n-1}) / dt,
+//   DCM xi = c + c' / omega,  omega = sqrt(g / z_c).
+// Everything is sized by the constructor; update() allocates nothing.
+
+#include "multibody/data.h"
+#include "multibody/model.h"
+#include "multibody/walking/humanoid.h"
+
+#include <Eigen/Core>
+
+#include <array>
+
+namespace plantar::walking {
+
+struct ComEstimatorParameters {
+  double velocity_time_constant = 0.01; ///< tau, s, >= 0 (0: the raw finite difference)
+  double min_contact_force = 20;        ///< N: a foot below it does not anchor
+};
+
+class ComEstimator {
+public:
+  /// @p model (outlives the estimator) with @p humanoid resolved on it; @p imu_frame a frame of
+  /// the model; @p dt the control period (s).
+  ComEstimator(const multibody::Model& model, const Humanoid& humanoid, int imu_frame,
+               const ComEstimatorParameters& parameters, double dt);
+  /// One estimate. @param encoders the controlled joints (Humanoid order, rad);
+  /// @param imu_orientation the IMU frame -> world; @param reference_soles the planned sole
+  /// positions (right, left; world, m); @param normal_forces the feet's measured normal forces
+  /// (N).
+  void update(const Eigen::Ref<const Eigen::VectorXd>& encoders,
+              const Eigen::Matrix3d& imu_orientation,
+              const std::array<Eigen::Vector3d, 2>& reference_soles,
+              const std::array<double, 2>& normal_forces);
+  /// Replaces the estimate by a given CoM and CoM velocity (the ground-truth option).
+  void set(const Eigen::Vector3d& com, const Eigen::Vector3d& com_velocity);
+  const Eigen::Vector3d& com() const { return com_; }                   ///< m, world
+  const Eigen::Vector3d& com_velocity() const { return com_velocity_; } ///< m/s, world
+  Eigen::Vector3d dcm(double omega) const { return com_ + com_velocity_ / omega; }
+
+private:
+  const multibody::Model& model_;
+  ComEstimatorParameters parameters_;
+  multibody::Data data_;
+  Eigen::VectorXd q_;
+  std::vector<int> joint_q_;
+  int imu_frame_;
+  std::array<int, 2> sole_frames_;
+  double dt_, filter_;
+  bool first_ = true;
+  std::array<double, 2> weights_{0.5, 0.5};
+  Eigen::Vector3d com_ = Eigen::Vector3d::Zero(), com_velocity_ = Eigen::Vector3d::Zero();
+};
+
+} // namespace plantar::walking
