@@ -80,8 +80,9 @@ TEST(SweepRelaxation, TwoPointsEqualTheSingleRuns) {
     }
     const double dissipated = summary_value(point, "sole_dissipated_energy");
     EXPECT_GT(dissipated, 0) << tau;
-    if (!std::isnan(previous)) // the axis reached the material
+    if (!std::isnan(previous)) { // the axis reached the material
       EXPECT_GT(std::abs(dissipated - previous), 1e-3 * dissipated);
+    }
     previous = dissipated;
   }
 }

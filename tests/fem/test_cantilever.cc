@@ -55,10 +55,11 @@ TEST(Cantilever, TimoshenkoP2Q2AndP1Locking) {
     const double ratio = tip / reference;
     std::printf("%4s %3ux%ux%u %14.6e %10.4f\n", Discretization(c.kind, c.degree).name().c_str(),
                 c.n_x, c.n_yz, c.n_yz, tip, ratio);
-    if (c.degree == 2 && c.n_x == 40)
+    if (c.degree == 2 && c.n_x == 40) {
       EXPECT_NEAR(ratio, 1.0, 0.01);
-    else if (c.degree == 1 && c.kind == CellKind::tetrahedron)
+    } else if (c.degree == 1 && c.kind == CellKind::tetrahedron) {
       EXPECT_LT(ratio, 0.9) << "P1 tetrahedra are expected to lock in bending";
+    }
   }
 }
 

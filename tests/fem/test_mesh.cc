@@ -56,8 +56,9 @@ TEST_P(SoleMesh, GroupsAreasVolumes) {
   dealii::Triangulation<3> tria;
   const auto groups = import_mesh(msh, {"top", "bottom", "sides"}, tria);
   EXPECT_EQ(cell_kind(tria), hex ? CellKind::hexahedron : CellKind::tetrahedron);
-  if (hex)
+  if (hex) {
     EXPECT_EQ(tria.n_active_cells(), 22u * 14u * 2u); // ceil(L/h) x ceil(W/h) x ceil(T/h)
+  }
   const double top = boundary_area(tria, groups.surface("top"));
   const double bottom = boundary_area(tria, groups.surface("bottom"));
   const double sides = boundary_area(tria, groups.surface("sides"));
@@ -71,10 +72,11 @@ TEST_P(SoleMesh, GroupsAreasVolumes) {
   // Frame: top face at z = 0, bottom face at z = -T.
   for (const auto& cell : tria.active_cell_iterators())
     for (const auto& face : cell->face_iterators())
-      if (face->at_boundary() && face->boundary_id() == groups.surface("top"))
+      if (face->at_boundary() && face->boundary_id() == groups.surface("top")) {
         EXPECT_NEAR(face->center()[2], 0.0, 1e-12);
-      else if (face->at_boundary() && face->boundary_id() == groups.surface("bottom"))
+      } else if (face->at_boundary() && face->boundary_id() == groups.surface("bottom")) {
         EXPECT_NEAR(face->center()[2], -T, 1e-12);
+      }
 }
 INSTANTIATE_TEST_SUITE_P(TetAndHex, SoleMesh, ::testing::Values(false, true));
 
