@@ -34,3 +34,14 @@ function(plantar_add_test_executable)
   target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main plantar_warnings)
   target_compile_definitions(${T_NAME} PRIVATE PLANTAR_SOURCE_DIR="${PLANTAR_SOURCE_DIR}")
 endfunction()
+
+# plantar_sanitize_mpi_test(test): in a sanitizer tree (PLANTAR_SANITIZE), a test whose processes
+# initialise MPI unwinds allocation stacks through DWARF information: Open MPI and PETSc are
+# built without frame pointers, so the fast unwinder loses their frames and LeakSanitizer could
+# not match their start-up allocations to tools/sanitizers/lsan.supp.
+function(plantar_sanitize_mpi_test name)
+  if(PLANTAR_SANITIZE)
+    set_tests_properties(${name} PROPERTIES ENVIRONMENT_MODIFICATION
+                         "ASAN_OPTIONS=string_append::fast_unwind_on_malloc=0")
+  endif()
+endfunction()
