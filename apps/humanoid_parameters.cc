@@ -548,9 +548,11 @@ void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
 void LeanSceneParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Final angle", "14.3", Double(-20, 20),
                     "Waist roll commanded at the end of the ramp (deg; paper: 14.3).");
-  prm.declare_entry("Start time", "0.5", Double(0), "Standing before the ramp (s).");
-  prm.declare_entry("Ramp time", "3.0", Double(0), "Quintic ramp duration (s), > 0.");
-  prm.declare_entry("Hold time", "2.0", Double(0), "Holding the final angle (s).");
+  // Bounded: the reference is sampled over the whole test (an unbounded time overflowed its
+  // sample count).
+  prm.declare_entry("Start time", "0.5", Double(0, 600), "Standing before the ramp (s), [0, 600].");
+  prm.declare_entry("Ramp time", "3.0", Double(0, 600), "Quintic ramp duration (s), (0, 600].");
+  prm.declare_entry("Hold time", "2.0", Double(0, 600), "Holding the final angle (s), [0, 600].");
 }
 
 void LeanSceneParameters::parse(dealii::ParameterHandler& prm) {
