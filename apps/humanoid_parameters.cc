@@ -569,11 +569,12 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
                     "Moreau-Jean theta, [0.5, 1]: weight of the step's end in the joint springs, "
                     "the sole forces and the position update. 1: the paper's eq. 4 (first "
                     "order, damps stiff springs); 0.5: second order, no numerical damping.");
-  prm.declare_entry("Duration", "0", Double(0),
-                    "Simulated time (s); 0: the whole reference (lean, walk) or 5 s plus the "
-                    "settle time (stand), 1 s (drop).");
-  prm.declare_entry("Settle time", "1.0", Double(0),
-                    "stand: time to settle before the 1 mm window is measured (s).");
+  prm.declare_entry(
+      "Duration", "0", Double(0, 3600),
+      "Simulated time (s), [0, 3600]; 0: the whole reference (lean, walk) or 5 s plus the "
+      "settle time (stand), 1 s (drop).");
+  prm.declare_entry("Settle time", "1.0", Double(0, 600),
+                    "stand: time to settle before the 1 mm window is measured (s), [0, 600].");
   prm.declare_entry("Release height", "0.01", Double(0, 0.5),
                     "drop: height of the lowest contact point above the ground at release (m).");
   prm.declare_entry("Drop posture", "", Anything(),
@@ -585,16 +586,16 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Max penetration", "0.005", Double(0),
                     "The run fails if a contact point sinks deeper than this into the ground (m).");
   const SimulationParameters d;
-  prm.declare_entry("Push time", number_text(d.push_time), Double(0),
-                    "s: start of a push on the waist (base origin).");
+  prm.declare_entry("Push time", number_text(d.push_time), Double(0, 3600),
+                    "s, [0, 3600]: start of a push on the waist (base origin).");
   prm.declare_entry("Push direction",
                     number_text(d.push_direction.x()) + ", " + number_text(d.push_direction.y()) +
                         ", " + number_text(d.push_direction.z()),
                     Anything(), "'x, y, z' (world axes, normalised): direction of the push.");
   prm.declare_entry("Push magnitude", number_text(d.push_magnitude), Double(0),
                     "N s: impulse of the push, a constant force over Push duration; 0: no push.");
-  prm.declare_entry("Push duration", number_text(d.push_duration), Double(0),
-                    "s, > 0: duration of the push.");
+  prm.declare_entry("Push duration", number_text(d.push_duration), Double(0, 600),
+                    "s, (0, 600]: duration of the push.");
 }
 
 void SimulationParameters::parse(dealii::ParameterHandler& prm) {

@@ -371,6 +371,13 @@ TEST(Cli, BadScenesGiveOneClearErrorAndNoOutput) {
       {"min-jacobian",
        "subsection Sole\n  set Min jacobian = 0\nend\n",
        {"Sole/Min jacobian", "0", "in (0, 1)"}},
+      // Found by tests/apps/fuzz_scenes.py: both crashed the run (SIGSEGV) before their bounds.
+      {"duration",
+       "subsection Simulation\n  set Duration = 1e308\nend\n",
+       {"Duration", "1e308", "0...3600"}},
+      {"hold-time",
+       "set Scene type = lean\nsubsection Lean\n  set Hold time = 1e308\nend\n",
+       {"Hold time", "1e308", "600"}},
   };
   for (const auto& c : cases) {
     const auto scene = write_scene(std::string("bad-") + c.name, c.text);
