@@ -72,6 +72,8 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
         << s.sole_tolerated_error << " (tolerance " << s.sole_recondensation_tolerance << ")\n";
   if (s.sole_dissipated_energy > 0)
     out << "viscoelastic soles: " << s.sole_dissipated_energy << " J dissipated (both feet)\n";
+  if (s.pad_dissipated_energy > 0)
+    out << "viscoelastic pads: " << s.pad_dissipated_energy << " J dissipated (all pads)\n";
   if (scene.type == SceneType::stand)
     out << "stand: max waist displacement after the settle time: " << s.stand_window_deviation * 1e3
         << " mm\n";
@@ -206,6 +208,7 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "max_solver_residual," << s.max_solver_residual << "\n"
         << "max_penetration," << s.max_penetration << "\n"
         << "sole_dissipated_energy," << s.sole_dissipated_energy << "\n"
+        << "pad_dissipated_energy," << s.pad_dissipated_energy << "\n"
         << "n_pads," << s.n_pads << "\n"
         << "max_pad_force," << s.max_pad_force << "\n"
         << "max_pad_compression," << s.max_pad_compression << "\n"

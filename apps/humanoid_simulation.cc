@@ -91,7 +91,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   const double dt = sim.time_step;
   lift_ = foot_model_->lift();
   summary_.sole_thickness = lift_;
-  pads_ = std::make_unique<PadSet>(scene_.pads.pads);
+  pads_ = std::make_unique<PadSet>(scene_.pads.pads, scene_.simulation.time_step);
   pads_->resolve(model_);
   pad_reports_.resize(pads_->size());
 
@@ -213,7 +213,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
       "zmp_y",   "n_contacts", "solver_iterations", "solver_residual"};
   for (int i = 0; i < pads_->size(); ++i)
     for (const char* suffix : {"_fx", "_fy", "_fz", "_compression"})
-      contact_columns.push_back(pads_->pad(i).name() + suffix);
+      contact_columns.push_back(pads_->name(i) + suffix);
   contacts_ = TimeSeries(contact_columns, rows);
   if (balance_)
     balance_series_ = TimeSeries({"t",         "dcm_x",         "dcm_y",         "dcm_ref_x",
@@ -383,6 +383,12 @@ void HumanoidSimulation::step() {
     }
   }
   summary_.final_pad_force = pad_force;
+  try {
+    pads_->finish_step();
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+  summary_.pad_dissipated_energy = pads_->dissipated_energy();
   try {
     foot_model_->update(data_);
     summary_.validity.set_step(step_, t);

@@ -63,6 +63,7 @@ struct HumanoidSummary {
   /// The validity guards of the models (apps/validity_monitor.h): their warnings and peaks.
   ValidityMonitor validity;
   double sole_dissipated_energy = 0; ///< J, by viscoelastic soles (law=prony), both feet
+  double pad_dissipated_energy = 0;  ///< J, by viscoelastic pads (law=prony), all pads
   /// Wall seconds of the loop per simulated second.
   double cost() const { return simulated_time > 0 ? loop_wall_time / simulated_time : 0; }
 };

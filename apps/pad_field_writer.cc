@@ -3,6 +3,7 @@
 #include "contact/ground_frame.h"
 #include "fem/atomic_file.h"
 
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/numerics/data_out.h>
 
 namespace plantar::app {
@@ -132,6 +133,32 @@ void write_pad_fields(const PadFieldMesh& mesh, const coupling::PadState& pad,
   flags.compression_level = dealii::DataOutBase::VtkFlags::best_speed; // not best_compression
   out.set_flags(flags);
   fem::write_file_atomically(path, [&](std::ostream& stream) { out.write_vtu(stream); });
+}
+
+Eigen::VectorXd
+consistent_areas(const dealii::DoFHandler<3>& dof_handler,
+                 const fem::Discretization& discretization, dealii::types::boundary_id bottom,
+                 const std::vector<std::array<dealii::types::global_dof_index, 3>>& dofs) {
+  const auto& fe = *discretization.fe;
+  dealii::FEFaceValues<3> face_values(*discretization.mapping, fe, discretization.face_quadrature,
+                                      dealii::update_values | dealii::update_JxW_values);
+  dealii::Vector<double> load(dof_handler.n_dofs());
+  std::vector<dealii::types::global_dof_index> local(fe.n_dofs_per_cell());
+  for (const auto& cell : dof_handler.active_cell_iterators())
+    for (const unsigned int face : cell->face_indices()) {
+      if (!cell->face(face)->at_boundary() || cell->face(face)->boundary_id() != bottom)
+        continue;
+      face_values.reinit(cell, face);
+      cell->get_dof_indices(local);
+      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+        if (fe.system_to_component_index(i).first == 2)
+          for (unsigned int q = 0; q < face_values.n_quadrature_points; ++q)
+            load(local[i]) += face_values.shape_value(i, q) * face_values.JxW(q);
+    }
+  Eigen::VectorXd area(dofs.size());
+  for (std::size_t k = 0; k < dofs.size(); ++k)
+    area[static_cast<Eigen::Index>(k)] = load(dofs[k][2]);
+  return area;
 }
 
 } // namespace plantar::app

@@ -32,6 +32,13 @@ struct PadFieldMesh {
   const Eigen::VectorXd* node_areas = nullptr;
 };
 
+/// Consistent areas a_k = int_bottom N_k ds (m^2) of the contact nodes @p dofs (their z dofs
+/// used) of a sole on @p dof_handler; bottom = the faces with boundary id @p bottom.
+Eigen::VectorXd
+consistent_areas(const dealii::DoFHandler<3>& dof_handler,
+                 const fem::Discretization& discretization, dealii::types::boundary_id bottom,
+                 const std::vector<std::array<dealii::types::global_dof_index, 3>>& dofs);
+
 /// A per-cell field of the .vtu: one value per active cell (indexed by active_cell_index()).
 struct PadCellField {
   std::string name;

@@ -1,6 +1,7 @@
 #include "apps/pad_parameters.h"
 
 #include "apps/number_list.h"
+#include "fem/material_table.h"
 #include "fem/sole_parameters.h"
 
 #include <deal.II/base/utilities.h>
@@ -59,8 +60,9 @@ void PadParameters::declare(dealii::ParameterHandler& prm) {
                       "gmsh -setnumber overrides, 'NAME = VALUE, ...' (e.g. PadThickness = "
                       "0.02, PadMeshSize = 0.008 for meshes/pad_knee.geo).");
     prm.declare_entry("Materials", d.description.materials, Anything(),
-                      "Linear materials by physical volume, 'region: E=..., nu=...; ...' "
-                      "(E in Pa), as Sole/Materials.");
+                      "Materials by physical volume, 'region: E=..., nu=...; ...' (E in Pa), "
+                      "as Sole/Materials; law=prony in a region makes the pad viscoelastic "
+                      "(Prony series, condensed at Simulation/Time step).");
     prm.declare_entry("Degree", std::to_string(d.description.degree), Integer(1, 2),
                       "Lagrange degree of the pad's elements, 1 or 2.");
     prm.declare_entry("Placement", "0, 0, 0", Anything(),
@@ -70,7 +72,8 @@ void PadParameters::declare(dealii::ParameterHandler& prm) {
     prm.declare_entry("Friction", number_text(d.description.friction), Double(0, 100),
                       "Coulomb mu between the pad and the ground, [0, 100].");
     prm.declare_entry("Damping time", number_text(d.damping_time), Double(0),
-                      "Kelvin-Voigt beta (s), D = beta K; 0: elastic.");
+                      "Kelvin-Voigt beta (s), D = beta K; 0: elastic. Elastic pads only (a "
+                      "viscoelastic pad dissipates through its Prony branches).");
     prm.declare_entry("Max compression", number_text(d.max_compression), Double(0, 1),
                       "The run fails when a node is compressed by more than this fraction of "
                       "the pad's thickness, (0, 1].");
@@ -115,9 +118,19 @@ void PadParameters::parse(dealii::ParameterHandler& prm,
     entry.damping_time = prm.get_double("Damping time");
     entry.max_compression = prm.get_double("Max compression");
     prm.leave_subsection();
+    bool viscoelastic = false;
+    for (const auto& [region, spec] :
+         fem::parse_material_specs(pad.materials, section + "/Materials"))
+      viscoelastic = viscoelastic || spec.law == "prony";
+    if (viscoelastic && entry.damping_time != 0.0)
+      throw std::invalid_argument(
+          section + "/Damping time = " + number_text(entry.damping_time) +
+          " s: a viscoelastic pad (law=prony in " + section +
+          "/Materials) dissipates through its Prony branches, allowed 0 (no Kelvin-Voigt "
+          "damping on top)");
     if (!(entry.max_compression > 0))
-      throw std::invalid_argument(section + "/Max compression = " + prm.get("Max compression") +
-                                  ": must be in (0, 1]");
+      throw std::invalid_argument(section + "/Max compression = " +
+                                  number_text(entry.max_compression) + ": must be in (0, 1]");
     try {
       pad.validate();
     } catch (const std::invalid_argument& e) {

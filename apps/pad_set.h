@@ -1,13 +1,16 @@
 #pragma once
 // The deformable pads of a humanoid scene (subsections Pad 1 ... Pad 6, apps/pad_parameters.h)
-// in the time loop: each pad (coupling::DeformablePad, condensed once) is one compliant patch of
-// the stepper on the body that carries its link, with its state (coupling::PadState); after
-// each step the set reports each pad's force and compression and checks the linear model's
-// validity; output writers ask for each pad's .vtu (apps/pad_field_writer.h).
+// in the time loop: each pad is one compliant patch of the stepper on the body that carries its
+// link, with its state (coupling::PadState). An elastic pad (coupling::DeformablePad) is
+// condensed once; a viscoelastic one (law=prony in its materials: coupling::ViscoelasticPad) is
+// condensed once at the scene's dt and renews its history offset after every step
+// (finish_step). After each step the set reports each pad's force and compression and checks
+// the linear model's validity; output writers ask for each pad's .vtu (apps/pad_field_writer.h).
 
 #include "apps/pad_parameters.h"
 #include "coupling/deformable_pad.h"
 #include "coupling/pad_state.h"
+#include "coupling/viscoelastic_pad.h"
 #include "multibody/data.h"
 #include "multibody/model.h"
 
@@ -32,16 +35,23 @@ struct PadReport {
 
 class PadSet {
 public:
-  /// Builds (meshes and condenses) every pad of @p entries. Throws what DeformablePad throws,
+  /// Builds (meshes and condenses) every pad of @p entries; a viscoelastic pad at the time step
+  /// @p time_step (s, > 0: the stepper's). Throws what DeformablePad or ViscoelasticPad throws,
   /// prefixed with the pad's name.
-  explicit PadSet(const std::vector<PadEntry>& entries);
+  PadSet(const std::vector<PadEntry>& entries, double time_step);
   ~PadSet();
   PadSet(const PadSet&) = delete;
   PadSet& operator=(const PadSet&) = delete;
 
-  int size() const { return static_cast<int>(pads_.size()); }
-  const coupling::DeformablePad& pad(int i) const { return *pads_[i]; }
+  int size() const { return static_cast<int>(entries_.size()); }
   const PadEntry& entry(int i) const { return entries_[i]; }
+  const std::string& name(int i) const { return entries_[i].description.name; }
+  /// Pad @p i's elastic model, nullptr for a viscoelastic pad.
+  const coupling::DeformablePad* elastic(int i) const { return elastic_[i].get(); }
+  /// Pad @p i's viscoelastic model, nullptr for an elastic pad.
+  const coupling::ViscoelasticPad* viscoelastic(int i) const { return viscoelastic_[i].get(); }
+  /// Extent of pad @p i's mesh along its z (m).
+  double thickness(int i) const { return thickness_[i]; }
   /// Contact nodes of all pads together: their part of the stepper's capacity.
   int max_contacts() const;
 
@@ -54,6 +64,13 @@ public:
   double lowest_point(const multibody::Data& data) const;
   /// Adds each pad as a deformable patch of @p stepper (which must outlive this set).
   void attach(multibody::Stepper& stepper);
+
+  /// After each step of the stepper: the viscoelastic pads advance their FEM state under the
+  /// step's node forces and set their next history offset (coupling::ViscoelasticPad::
+  /// finish_step). No heap allocation. Throws std::runtime_error naming the pad on failure.
+  void finish_step();
+  /// Energy dissipated so far by the viscoelastic pads (J, sum over the pads).
+  double dissipated_energy() const;
 
   /// Pad @p i after the step (@p data: the step's end). No heap allocation.
   void report(int i, const multibody::Data& data, PadReport& out) const;
@@ -71,7 +88,10 @@ private:
   multibody::SE3 placement(int i, const multibody::Data& data) const;
 
   std::vector<PadEntry> entries_;
-  std::vector<std::unique_ptr<coupling::DeformablePad>> pads_;
+  std::vector<std::unique_ptr<coupling::DeformablePad>> elastic_;        ///< null if viscoelastic
+  std::vector<std::unique_ptr<coupling::ViscoelasticPad>> viscoelastic_; ///< null if elastic
+  std::vector<double> thickness_;                                        ///< m
+  std::vector<Eigen::Matrix3Xd> link_nodes_; ///< contact nodes in link coordinates (3 x n), m
   std::vector<std::unique_ptr<coupling::PadState>> states_;
   std::vector<int> bodies_;                  ///< the body carrying each pad
   std::vector<multibody::SE3> link_in_body_; ///< each pad's link frame -> body frame

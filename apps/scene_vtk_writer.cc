@@ -27,7 +27,7 @@ SceneVtkWriter::SceneVtkWriter(const HumanoidSimulation& simulation,
   shapes_ = make_link_shapes(simulation.model(), urdf_file, stick_radius);
   has_soles_ = simulation.foot_model().has_fields();
   for (int i = 0; i < simulation.pads().size(); ++i)
-    pads_.push_back("pad_" + simulation.pads().pad(i).name());
+    pads_.push_back("pad_" + simulation.pads().name(i));
   std::filesystem::create_directories(directory_ / "vtk");
 }
 

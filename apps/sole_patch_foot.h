@@ -49,12 +49,6 @@ protected:
   int n_nodes() const { return static_cast<int>(nodes_.cols()); }
   /// The stepper's pad state of foot @p foot (valid after attach).
   coupling::PadState& pad_state(int foot) { return *pads_[foot]; }
-  /// Consistent areas a_k = int_bottom N_k ds (m^2) of the contact nodes @p dofs (their z dofs
-  /// used) of a sole on @p dof_handler; bottom = the faces with boundary id @p bottom.
-  static Eigen::VectorXd
-  consistent_areas(const dealii::DoFHandler<3>& dof_handler,
-                   const fem::Discretization& discretization, dealii::types::boundary_id bottom,
-                   const std::vector<std::array<dealii::types::global_dof_index, 3>>& dofs);
   /// Force on node @p node of foot @p foot at the step's end, (n, t1, t2) = world (z, x, y), N.
   Eigen::Vector3d node_force(int foot, int node) const;
   /// Largest compression u_k . n (m; n: the sole's normal into the foot) and largest |u_k|

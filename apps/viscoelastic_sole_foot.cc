@@ -2,37 +2,13 @@
 
 #include "apps/scene.h"
 #include "coupling/viscoelastic_pad.h"
+#include "fem/field_output.h"
 #include "fem/viscoelastic_material.h"
 #include "multibody/stepper.h"
 
 #include <stdexcept>
 
 namespace plantar::app {
-namespace {
-
-/// Small strain eps = sym grad u (3 x 3), 9 components named strain.
-class StrainPostprocessor : public dealii::DataPostprocessor<3> {
-public:
-  void evaluate_vector_field(const dealii::DataPostprocessorInputs::Vector<3>& inputs,
-                             std::vector<dealii::Vector<double>>& computed) const override {
-    for (unsigned int p = 0; p < inputs.solution_gradients.size(); ++p)
-      for (unsigned int i = 0; i < 3; ++i)
-        for (unsigned int j = 0; j < 3; ++j)
-          computed[p](3 * i + j) =
-              0.5 * (inputs.solution_gradients[p][i][j] + inputs.solution_gradients[p][j][i]);
-  }
-  std::vector<std::string> get_names() const override {
-    return std::vector<std::string>(9, "strain");
-  }
-  std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>
-  get_data_component_interpretation() const override {
-    return std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>(
-        9, dealii::DataComponentInterpretation::component_is_part_of_tensor);
-  }
-  dealii::UpdateFlags get_needed_update_flags() const override { return dealii::update_gradients; }
-};
-
-} // namespace
 
 bool has_viscoelastic_material(const std::string& materials) {
   for (const auto& [name, spec] : fem::parse_material_specs(materials, "Sole/Materials"))
@@ -121,7 +97,7 @@ ViscoelasticSoleFoot::displacement_field(int foot, const Eigen::VectorXd& contac
 std::unique_ptr<dealii::DataPostprocessor<3>>
 ViscoelasticSoleFoot::stress_postprocessor(int foot) const {
   (void)foot;
-  return std::make_unique<StrainPostprocessor>();
+  return std::make_unique<fem::StrainPostprocessor>();
 }
 
 std::vector<PadCellField> ViscoelasticSoleFoot::cell_fields(int foot) const {

@@ -43,15 +43,9 @@ struct Built {
 };
 
 Built build(const PadDescription& description) {
-  fem::MeshRequest request;
-  request.geo_file = fem::resolve_path(description.geometry_file, std::filesystem::current_path());
-  request.numbers = description.mesh_numbers;
-  request.cache_directory =
-      description.cache_directory.empty() ? fem::default_mesh_cache() : description.cache_directory;
-  request.gmsh_executable = description.gmsh_executable;
   dealii::Triangulation<3> tria;
-  const fem::PhysicalGroups groups =
-      fem::import_mesh(fem::generate_mesh(request), {"top", "bottom"}, tria);
+  double thickness = 0;
+  const fem::PhysicalGroups groups = mesh_pad(description, tria, thickness);
   const std::string parameter = "pad '" + description.name + "' materials";
   const fem::MaterialTable materials(fem::parse_material_specs(description.materials, parameter),
                                      groups);
@@ -59,15 +53,29 @@ Built build(const PadDescription& description) {
   parameters.attached_boundary = groups.surface("top");
   parameters.contact_boundary = groups.surface("bottom");
   parameters.degree = description.degree;
+  return {CondensedSole(tria, materials, parameters), thickness};
+}
+
+} // namespace
+
+fem::PhysicalGroups mesh_pad(const PadDescription& description, dealii::Triangulation<3>& tria,
+                             double& thickness) {
+  fem::MeshRequest request;
+  request.geo_file = fem::resolve_path(description.geometry_file, std::filesystem::current_path());
+  request.numbers = description.mesh_numbers;
+  request.cache_directory =
+      description.cache_directory.empty() ? fem::default_mesh_cache() : description.cache_directory;
+  request.gmsh_executable = description.gmsh_executable;
+  fem::PhysicalGroups groups =
+      fem::import_mesh(fem::generate_mesh(request), {"top", "bottom"}, tria);
   double z_min = std::numeric_limits<double>::infinity(), z_max = -z_min;
   for (const auto& vertex : tria.get_vertices()) {
     z_min = std::min(z_min, vertex[2]);
     z_max = std::max(z_max, vertex[2]);
   }
-  return {CondensedSole(tria, materials, parameters), z_max - z_min};
+  thickness = z_max - z_min;
+  return groups;
 }
-
-} // namespace
 
 void PadDescription::validate() const {
   if (name.empty())

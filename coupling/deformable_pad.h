@@ -19,6 +19,9 @@
 // the pad; it is the spring constant of a body resting level on the pad on frictionless ground).
 
 #include "coupling/condensed_sole.h"
+#include "fem/mesh_import.h"
+
+#include <deal.II/grid/tria.h>
 
 #include <Eigen/Core>
 
@@ -52,6 +55,13 @@ struct PadDescription {
   /// R = Rz(yaw) Ry(pitch) Rx(roll), pad frame -> link frame.
   Eigen::Matrix3d rotation() const;
 };
+
+/// Generates (or reuses from the cache) and imports @p description's mesh into @p tria (pad
+/// frame, m) and returns its physical groups, which have "top" and "bottom". Sets @p thickness
+/// to the mesh's extent along pad z (m). @throws std::runtime_error if gmsh fails or a surface
+/// is missing.
+fem::PhysicalGroups mesh_pad(const PadDescription& description, dealii::Triangulation<3>& tria,
+                             double& thickness);
 
 class DeformablePad {
 public:

@@ -50,6 +50,29 @@ UpdateFlags StressPostprocessor::get_needed_update_flags() const {
   return update_gradients;
 }
 
+void StrainPostprocessor::evaluate_vector_field(const DataPostprocessorInputs::Vector<3>& inputs,
+                                                std::vector<Vector<double>>& computed) const {
+  for (unsigned int p = 0; p < inputs.solution_gradients.size(); ++p)
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        computed[p](3 * i + j) =
+            0.5 * (inputs.solution_gradients[p][i][j] + inputs.solution_gradients[p][j][i]);
+}
+
+std::vector<std::string> StrainPostprocessor::get_names() const {
+  return std::vector<std::string>(9, "strain");
+}
+
+std::vector<DataComponentInterpretation::DataComponentInterpretation>
+StrainPostprocessor::get_data_component_interpretation() const {
+  return std::vector<DataComponentInterpretation::DataComponentInterpretation>(
+      9, DataComponentInterpretation::component_is_part_of_tensor);
+}
+
+UpdateFlags StrainPostprocessor::get_needed_update_flags() const {
+  return update_gradients;
+}
+
 void write_sole_vtu(const DoFHandler<3>& dof_handler, const Discretization& discretization,
                     const Vector<double>& solution,
                     const std::vector<const DataPostprocessor<3>*>& postprocessors,

@@ -41,6 +41,18 @@ private:
   const MaterialTable& materials_;
 };
 
+/// Small strain eps = sym grad u (3 x 3) at the output points: 9 components named strain (a
+/// viscoelastic sole's stress depends on its history, written per cell instead).
+class StrainPostprocessor : public dealii::DataPostprocessor<3> {
+public:
+  void evaluate_vector_field(const dealii::DataPostprocessorInputs::Vector<3>& inputs,
+                             std::vector<dealii::Vector<double>>& computed) const override;
+  std::vector<std::string> get_names() const override;
+  std::vector<dealii::DataComponentInterpretation::DataComponentInterpretation>
+  get_data_component_interpretation() const override;
+  dealii::UpdateFlags get_needed_update_flags() const override;
+};
+
 /// A per-cell field of the output: @p values has one entry per active cell
 /// (indexed by active_cell_index()).
 struct CellField {

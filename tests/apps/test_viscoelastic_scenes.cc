@@ -15,6 +15,7 @@
 #include "coupling/viscoelastic_pad.h"
 #include "multibody/kinematics.h"
 #include "tests/apps/humanoid_test_utilities.h"
+#include "tests/apps/series_test_utilities.h"
 
 #include <vtkCell.h>
 #include <vtkDataArray.h>
@@ -36,6 +37,9 @@
 namespace plantar::app {
 namespace {
 
+using testing::cell_volume;
+using testing::series_difference;
+
 /// The SLS rubber of the tests (illustrative): E_inf = 2 MPa, E_1 = 2 MPa at tau = 10 ms.
 const char* const sls_rubber = "rubber: law=prony, E=2e6, nu=0.3, E1=2e6, tau1=0.01";
 
@@ -46,25 +50,6 @@ Scene drop_scene(const std::string& materials, double time_step = 1e-3) {
                                                {"Output/Write CSV", "true"},
                                                {"Output/Write VTU", "false"},
                                                {"Sole/Materials", materials}});
-}
-
-/// max |a - b| over every entry of two series, relative to max |a|, per series.
-double series_difference(const TimeSeries& a, const TimeSeries& b) {
-  EXPECT_EQ(a.n_rows(), b.n_rows());
-  EXPECT_EQ(a.n_columns(), b.n_columns());
-  double worst = 0;
-  for (int c = 1; c < a.n_columns(); ++c) {
-    double scale = 0, difference = 0;
-    for (int r = 0; r < a.n_rows(); ++r) {
-      if (std::isnan(a(r, c)) && std::isnan(b(r, c)))
-        continue;
-      scale = std::max(scale, std::abs(a(r, c)));
-      difference = std::max(difference, std::abs(a(r, c) - b(r, c)));
-    }
-    if (scale > 0)
-      worst = std::max(worst, difference / scale);
-  }
-  return worst;
 }
 
 TEST(ViscoelasticScenes, ElasticLimitsReproduceTheElasticSole) {
@@ -98,26 +83,6 @@ struct Balance {
 Balance balance(const ViscoelasticSoleFoot& feet, int foot) {
   const fem::ViscoelasticCondensation& sole = feet.sole(foot).sole();
   return {sole.external_work(), sole.stored_energy(), sole.dissipated_energy()};
-}
-
-/// Volume of VTK cell @p cell (tetrahedron: |det| / 6; hexahedron: 6 tetrahedra).
-double cell_volume(vtkCell* cell) {
-  auto point = [&](int i) {
-    double x[3];
-    cell->GetPoints()->GetPoint(i, x);
-    return Eigen::Vector3d(x[0], x[1], x[2]);
-  };
-  auto tetra = [&](int a, int b, int c, int d) {
-    return std::abs((point(b) - point(a)).cross(point(c) - point(a)).dot(point(d) - point(a))) /
-           6.0;
-  };
-  if (cell->GetNumberOfPoints() == 4)
-    return tetra(0, 1, 2, 3);
-  if (cell->GetNumberOfPoints() == 8) // VTK hexahedron: 0-3 bottom, 4-7 top
-    return tetra(0, 1, 2, 6) + tetra(0, 2, 3, 6) + tetra(0, 3, 7, 6) + tetra(0, 7, 4, 6) +
-           tetra(0, 4, 5, 6) + tetra(0, 5, 1, 6);
-  ADD_FAILURE() << "cell with " << cell->GetNumberOfPoints() << " points";
-  return 0;
 }
 
 TEST(ViscoelasticScenes, EnergyBalanceAndDissipationField) {
