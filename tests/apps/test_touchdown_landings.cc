@@ -46,8 +46,9 @@ TEST(TouchdownLandings, TwoStepWalkLandsAtThePlannedVelocity) {
   const auto& s = sim.summary();
   const auto& landings_right = sim.landings(0);
   const auto& landings_left = sim.landings(1);
-  // The feet also unload and land while the rigid robot rocks sideways in the first 0.3 s
-  // (landings.csv lists them): take each foot's first landing after its planned lift-off.
+  // The feet also unload and land while the rigid robot rocks sideways during the 0.3 s of
+  // standing of this shortened walk (landings at 0.09-0.26 s, in landings.csv): take each
+  // foot's first landing after its planned lift-off.
   const double lift_off = walk.standing_before + walk.initial_double_support_time;
   const double planned = lift_off + walk.single_support_time;
   const double lift_off_left = planned + walk.double_support_time;
@@ -80,7 +81,10 @@ TEST(TouchdownLandings, TwoStepWalkLandsAtThePlannedVelocity) {
               s.n_landings, landings_right.size(), landings_left.size(), s.max_landing_peak_force,
               s.max_landing_acceleration_z, s.max_waist_acceleration_z,
               s.max_waist_acceleration_z_filtered);
+  // 5 ms: a few steps of tracking lag or of sag of the stance leg (1 mm is 5 ms at 0.2 m/s).
   EXPECT_NEAR(first.time, planned, 0.005);
+  // 20 %: the plan is sampled every 5 ms and interpolated (its last sample's backward
+  // difference is 4.5 % below v: walking_swing_height), plus the joint PD's tracking lag.
   EXPECT_NEAR(speed, -v_touchdown, 0.2 * v_touchdown);
   EXPECT_GT(first.peak_force, 0.01 * s.robot_mass * 9.81);
   EXPECT_EQ(s.n_landings, static_cast<int>(landings_right.size() + landings_left.size()));
