@@ -64,8 +64,8 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << s.simulated_time << " s\n"
       << "max |waist z acceleration|: " << s.max_waist_acceleration_z
       << " m/s^2 (backward difference of the step velocities), "
-      << s.max_waist_acceleration_z_filtered << " m/s^2 filtered (Output/Accelerometer bandwidth "
-      << scene.output.accelerometer_bandwidth << " Hz)\n"
+      << s.max_waist_acceleration_z_filtered << " m/s^2 filtered (cut-off "
+      << s.accelerometer_bandwidth << " Hz; 0: raw)\n"
       << "landings: " << s.n_landings << " (landings.csv), max peak force "
       << s.max_landing_peak_force << " N, max impulse " << s.max_landing_impulse
       << " N s, max filtered |a_z| " << s.max_landing_acceleration_z << " m/s^2 in the first "
@@ -187,6 +187,7 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "simulated_time," << s.simulated_time << "\n"
         << "max_waist_acceleration_z," << s.max_waist_acceleration_z << "\n"
         << "max_waist_acceleration_z_filtered," << s.max_waist_acceleration_z_filtered << "\n"
+        << "accelerometer_bandwidth," << s.accelerometer_bandwidth << "\n"
         << "n_landings," << s.n_landings << "\n"
         << "max_landing_peak_force," << s.max_landing_peak_force << "\n"
         << "max_landing_impulse," << s.max_landing_impulse << "\n"

@@ -223,7 +223,9 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
                                   "right_dz",  "left_roll",     "left_pitch",    "left_dz"},
                                  rows);
   unconverged_ = UnconvergedSolves(n_steps_);
-  accelerometer_ = make_butterworth_low_pass(scene_.output.accelerometer_bandwidth, dt,
+  const double bandwidth = scene_.output.accelerometer_bandwidth;
+  summary_.accelerometer_bandwidth = bandwidth < 0.5 / dt ? bandwidth : 0.0; // else raw
+  accelerometer_ = make_butterworth_low_pass(summary_.accelerometer_bandwidth, dt,
                                              "Output/Accelerometer bandwidth");
   const double weight = summary_.robot_mass * model_.gravity.norm();
   for (LandingDetector& detector : landings_)

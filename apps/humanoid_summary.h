@@ -45,6 +45,8 @@ struct HumanoidSummary {
   double max_roll_difference = 0;      ///< max |commanded - measured| roll, rad
   /// max |a_z| of the waist accelerometer (Output/Accelerometer bandwidth) over the run
   double max_waist_acceleration_z_filtered = 0;
+  /// Hz: the accelerometer's cut-off used; 0: raw (0 set, or at or above 1 / (2 dt))
+  double accelerometer_bandwidth = 0;
   // Landings of both feet (apps/landing_detector.h, landings.csv):
   int n_landings = 0;                    ///< touchdowns detected
   double max_landing_peak_force = 0;     ///< N, largest peak F_z of a landing window

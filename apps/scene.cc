@@ -1,6 +1,5 @@
 #include "apps/scene.h"
 
-#include "apps/butterworth_low_pass.h"
 #include "apps/choice.h"
 #include "apps/number_list.h"
 #include "fem/exception_text.h"
@@ -60,8 +59,9 @@ void OutputParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Accelerometer bandwidth", number_text(d.accelerometer_bandwidth),
                     Double(0, 1e4),
                     "Humanoid scenes: cut-off (Hz) of the waist accelerometer, a second-order "
-                    "Butterworth low-pass of the raw a_z; [0, 1e4] and below 1 / (2 Simulation/"
-                    "Time step); 0: raw. waist.csv keeps the raw a_z (docs/walking.md).");
+                    "Butterworth low-pass of the raw a_z, [0, 1e4]; 0, or at or above the "
+                    "Nyquist frequency 1 / (2 Simulation/Time step): raw. waist.csv keeps the "
+                    "raw a_z (docs/walking.md).");
   prm.declare_entry("Landing threshold", number_text(d.landing_threshold), Double(0, 1),
                     "Humanoid scenes: a foot lands when its vertical force rises through this "
                     "fraction of the robot's weight, (0, 1) (landings.csv).");
@@ -168,8 +168,6 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   pads.parse(prm, scene_directory);
   prm.enter_subsection("Output");
   output.parse(prm);
-  make_butterworth_low_pass(output.accelerometer_bandwidth, simulation.time_step,
-                            "Output/Accelerometer bandwidth"); // below the Nyquist frequency
   prm.leave_subsection();
   prm.enter_subsection("Sweep");
   sweep.parse(prm);

@@ -110,7 +110,27 @@ TEST(TouchdownLandings, TwoStepWalkLandsAtThePlannedVelocity) {
   for (int r = 0; r < waist.n_rows(); ++r)
     max_filtered = std::max(max_filtered, std::abs(waist(r, az_filtered)));
   EXPECT_EQ(max_filtered, s.max_waist_acceleration_z_filtered);
+  EXPECT_EQ(s.accelerometer_bandwidth, 100.0);
   std::filesystem::remove_all(dir);
+}
+
+TEST(TouchdownLandings, AccelerometerIsRawAtOrAboveNyquist) {
+  // dt = 10 ms: the Nyquist frequency is 50 Hz, below the default 100 Hz: the samples hold no
+  // frequency the filter would remove, so the raw a_z is used (cut-off 0 in the summary).
+  const Scene scene = load_humanoid_scene("drop", {{"Robot/Foot form", "rigid"},
+                                                   {"Simulation/Time step", "0.01"},
+                                                   {"Simulation/Duration", "0.5"}});
+  ASSERT_EQ(scene.output.accelerometer_bandwidth, 100.0);
+  HumanoidSimulation sim(scene);
+  sim.run();
+  const auto& s = sim.summary();
+  std::printf("dt = 10 ms: cut-off used %g Hz, max |a_z| raw %.4f, filtered %.4f m/s^2; %d "
+              "landings\n",
+              s.accelerometer_bandwidth, s.max_waist_acceleration_z,
+              s.max_waist_acceleration_z_filtered, s.n_landings);
+  EXPECT_EQ(s.accelerometer_bandwidth, 0.0);
+  EXPECT_GT(s.max_waist_acceleration_z, 1.0);
+  EXPECT_EQ(s.max_waist_acceleration_z_filtered, s.max_waist_acceleration_z);
 }
 
 /// Loads scenes/walk.prm with @p lines appended after an include; returns the error message.
@@ -142,8 +162,8 @@ TEST(TouchdownLandings, BadSceneValuesAreReported) {
        {"plantar_test_touchdown_bad.prm", "Touchdown velocity", "1.5", "0...1"}},
       {"subsection Walking\n  set Touchdown velocity = 0.5\n  set Step height = 0.01\nend\n",
        {"plantar_test_touchdown_bad.prm", "touchdown_velocity = 0.5", "[0, 0.24359"}},
-      {"subsection Output\n  set Accelerometer bandwidth = 600\nend\n",
-       {"plantar_test_touchdown_bad.prm", "Output/Accelerometer bandwidth = 600", "[0, 500) Hz"}},
+      {"subsection Output\n  set Accelerometer bandwidth = 2e4\nend\n",
+       {"plantar_test_touchdown_bad.prm", "Accelerometer bandwidth", "2e4", "0...10000"}},
       {"subsection Output\n  set Landing window = 0\nend\n",
        {"plantar_test_touchdown_bad.prm", "Output/Landing window = 0", "(0, 1] s"}},
   };
