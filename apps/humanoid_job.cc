@@ -63,7 +63,13 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << "steps: " << s.n_steps << " of dt = " << s.time_step << " s, simulated "
       << s.simulated_time << " s\n"
       << "max |waist z acceleration|: " << s.max_waist_acceleration_z
-      << " m/s^2 (backward difference of the step velocities)\n"
+      << " m/s^2 (backward difference of the step velocities), "
+      << s.max_waist_acceleration_z_filtered << " m/s^2 filtered (cut-off "
+      << s.accelerometer_bandwidth << " Hz; 0: raw)\n"
+      << "landings: " << s.n_landings << " (landings.csv), max peak force "
+      << s.max_landing_peak_force << " N, max impulse " << s.max_landing_impulse
+      << " N s, max filtered |a_z| " << s.max_landing_acceleration_z << " m/s^2 in the first "
+      << scene.output.landing_window * 1e3 << " ms\n"
       << "waist height: min " << s.min_waist_height << " m, max |z - z_ref| "
       << s.max_waist_height_error << " m\n";
   if (s.sole_recondensation_tolerance > 0)
@@ -182,6 +188,12 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "n_steps," << s.n_steps << "\n"
         << "simulated_time," << s.simulated_time << "\n"
         << "max_waist_acceleration_z," << s.max_waist_acceleration_z << "\n"
+        << "max_waist_acceleration_z_filtered," << s.max_waist_acceleration_z_filtered << "\n"
+        << "accelerometer_bandwidth," << s.accelerometer_bandwidth << "\n"
+        << "n_landings," << s.n_landings << "\n"
+        << "max_landing_peak_force," << s.max_landing_peak_force << "\n"
+        << "max_landing_impulse," << s.max_landing_impulse << "\n"
+        << "max_landing_acceleration_z," << s.max_landing_acceleration_z << "\n"
         << "min_waist_height," << s.min_waist_height << "\n"
         << "max_waist_height_error," << s.max_waist_height_error << "\n"
         << "commanded_roll_deg," << s.commanded_roll * deg << "\n"

@@ -510,6 +510,10 @@ void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Standing after", "1.0", Double(0, 60),
                     "s, standing still after the walk, [0, 60].");
   prm.declare_entry("Step height", "0.07", Double(0, 0.3), "Swing-foot apex (m).");
+  prm.declare_entry("Touchdown velocity", number_text(d.touchdown_velocity), Double(0, 1),
+                    "Planned downward speed of the swing sole at touchdown (m/s), [0, 1] and at "
+                    "most 19 Step height / Single support time (the apex stays at Step height); "
+                    "0: it lands at rest (the paper's walk). docs/walking.md.");
   prm.declare_entry("Max step length", "0.45", Double(0), "Longest swing travel allowed (m).");
   prm.declare_entry("Right foot first", "true", Bool(), "The right foot swings first.");
   prm.declare_entry("Initial right sole", "0, -0.105, 0", Anything(), "x, y, yaw (m, m, rad).");
@@ -529,6 +533,7 @@ void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
   walk.standing_before = prm.get_double("Standing before");
   walk.standing_after = prm.get_double("Standing after");
   walk.step_height = prm.get_double("Step height");
+  walk.touchdown_velocity = prm.get_double("Touchdown velocity");
   walk.max_step_length = prm.get_double("Max step length");
   walk.right_foot_first = prm.get_bool("Right foot first");
   walk.initial_right = parse_one(prm.get("Initial right sole"), "Walking/Initial right sole");

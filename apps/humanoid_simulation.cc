@@ -200,7 +200,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   // Output tables.
   const int rows = n_steps_ / scene_.output.output_every + 2;
   waist_ = TimeSeries({"t", "x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az", "roll", "pitch",
-                       "yaw", "roll_ref", "z_ref"},
+                       "yaw", "roll_ref", "z_ref", "az_filtered"},
                       rows);
   std::vector<std::string> joint_columns{"t"};
   for (const auto& name : names)
@@ -223,6 +223,14 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
                                   "right_dz",  "left_roll",     "left_pitch",    "left_dz"},
                                  rows);
   unconverged_ = UnconvergedSolves(n_steps_);
+  const double bandwidth = scene_.output.accelerometer_bandwidth;
+  summary_.accelerometer_bandwidth = bandwidth < 0.5 / dt ? bandwidth : 0.0; // else raw
+  accelerometer_ = make_butterworth_low_pass(summary_.accelerometer_bandwidth, dt,
+                                             "Output/Accelerometer bandwidth");
+  const double weight = summary_.robot_mass * model_.gravity.norm();
+  for (LandingDetector& detector : landings_)
+    detector = LandingDetector(
+        {scene_.output.landing_threshold * weight, scene_.output.landing_window}, dt, n_steps_);
   summary_.time_step = dt;
   summary_.setup_wall_time = seconds_since(setup_start_);
 }
@@ -340,6 +348,10 @@ void HumanoidSimulation::step() {
   waist_velocity_ = velocity;
   summary_.max_waist_acceleration_z =
       std::max(summary_.max_waist_acceleration_z, std::abs(acceleration.z()));
+  const double acceleration_z_filtered =
+      filter(accelerometer_, accelerometer_state_, acceleration.z());
+  summary_.max_waist_acceleration_z_filtered =
+      std::max(summary_.max_waist_acceleration_z_filtered, std::abs(acceleration_z_filtered));
   summary_.max_waist_height_error =
       std::max(summary_.max_waist_height_error, std::abs(q_[2] - q_ref_[2]));
   summary_.min_waist_height = std::min(summary_.min_waist_height, q_[2]);
@@ -397,6 +409,12 @@ void HumanoidSimulation::step() {
     fail(e.what());
   }
   foot_model_->summarize(summary_);
+  for (int foot = 0; foot < 2; ++foot) {
+    landings_[foot].update(t, foot_reports_[foot].force.z(), acceleration_z_filtered);
+    if (step_ == n_steps_)
+      landings_[foot].finish();
+  }
+  summarize_landings();
   if (summary_.max_penetration > scene_.simulation.max_penetration) {
     std::ostringstream msg;
     msg << "a contact point is " << summary_.max_penetration
@@ -424,7 +442,7 @@ void HumanoidSimulation::step() {
   auto w = waist_.append();
   w << t, q_[0], q_[1], q_[2], velocity.x(), velocity.y(), velocity.z(), acceleration.x(),
       acceleration.y(), acceleration.z(), roll, std::asin(-rotation(2, 0)),
-      std::atan2(rotation(1, 0), rotation(0, 0)), roll_ref, q_ref_[2];
+      std::atan2(rotation(1, 0), rotation(0, 0)), roll_ref, q_ref_[2], acceleration_z_filtered;
   auto jr = joints_.append();
   jr[0] = t;
   const auto& gains = stepper_->gains();
@@ -503,6 +521,21 @@ void HumanoidSimulation::write_csv(const std::filesystem::path& directory) const
   unconverged_.write_csv(directory / "unconverged_solves.csv");
   if (balance_)
     balance_series_.write_csv(directory / "balance.csv");
+  write_landings_csv(landings_[0].landings(), landings_[1].landings(), directory / "landings.csv");
+}
+
+void HumanoidSimulation::summarize_landings() {
+  summary_.n_landings = 0;
+  for (const LandingDetector& detector : landings_) {
+    summary_.n_landings += static_cast<int>(detector.landings().size());
+    if (!detector.landings().empty()) {
+      const Landing& last = detector.landings().back(); // the others are already in
+      summary_.max_landing_peak_force = std::max(summary_.max_landing_peak_force, last.peak_force);
+      summary_.max_landing_impulse = std::max(summary_.max_landing_impulse, last.impulse);
+      summary_.max_landing_acceleration_z =
+          std::max(summary_.max_landing_acceleration_z, last.peak_acceleration);
+    }
+  }
 }
 
 } // namespace plantar::app

@@ -12,7 +12,10 @@
 //   Simulation/Push magnitude > 0: a constant force on the base origin during the push
 //   Stepper::step (implicit PD: tau = kp (q_ref - q+) + kd (v_ref - v+), the torque recorded)
 //   waist velocity (world) v_w = R_base v_base,lin;  acceleration a_n = (v_w,n+1 - v_w,n) / dt
-//   (backward difference of consecutive step velocities; v_w,0 = 0 at rest)
+//   (backward difference of consecutive step velocities; v_w,0 = 0 at rest); the
+//   accelerometer's a_z = Output/Accelerometer bandwidth low-pass of a_z,n
+//   (apps/butterworth_low_pass.h)
+//   per foot: landings from its F_z and the filtered a_z (apps/landing_detector.h)
 //   per foot: force F = sum p_k / dt (world), CoP = sum f_z,k x_k / sum f_z,k over its contact
 //   points x_k (world, after the step); ZMP = the same over both feet (flat ground z = 0);
 //   per pad (Pad 1 ... Pad 6, apps/pad_set.h): its force and compression (not in the ZMP).
@@ -25,8 +28,10 @@
 // (unconverged_solves(), unconverged_solves.csv).
 // Everything is allocated by the constructor; step() allocates nothing.
 
+#include "apps/butterworth_low_pass.h"
 #include "apps/foot_model.h"
 #include "apps/humanoid_summary.h"
+#include "apps/landing_detector.h"
 #include "apps/pad_set.h"
 #include "apps/scene.h"
 #include "apps/time_series.h"
@@ -74,7 +79,10 @@ public:
   const TimeSeries& contact_series() const { return contacts_; }
   /// The contact solves that stopped above Contact/Tolerance, in step order.
   const UnconvergedSolves& unconverged_solves() const { return unconverged_; }
-  /// Writes waist.csv, joints.csv, contacts.csv, unconverged_solves.csv (and, with
+  /// The landings of the right (0) and left (1) foot so far (a window still open at the end
+  /// of run() is closed there).
+  const std::vector<Landing>& landings(int foot) const { return landings_[foot].landings(); }
+  /// Writes waist.csv, joints.csv, contacts.csv, unconverged_solves.csv, landings.csv (and, with
   /// Control/Stabilizer = dcm, balance.csv: estimated, reference and true DCM, reference and
   /// desired ZMP, estimated CoM, foot offsets) into @p directory (atomically).
   void write_csv(const std::filesystem::path& directory) const;
@@ -103,6 +111,7 @@ public:
 private:
   void reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_out);
   [[noreturn]] void fail(const std::string& what) const;
+  void summarize_landings(); ///< the landing figures of summary_
   std::chrono::steady_clock::time_point setup_start_ = std::chrono::steady_clock::now();
   Scene scene_;
   std::unique_ptr<FootModel> foot_model_;
@@ -129,6 +138,9 @@ private:
   Eigen::VectorXd v_previous_, acceleration_; ///< balance loop: v_n-1, (v_n - v_n-1) / dt
   std::array<multibody::Vector6d, 2> ground_wrenches_{}; ///< balance loop, per foot
   Eigen::Vector3d waist_velocity_ = Eigen::Vector3d::Zero();
+  ButterworthLowPass accelerometer_; ///< Output/Accelerometer bandwidth
+  ButterworthState accelerometer_state_;
+  std::array<LandingDetector, 2> landings_; ///< right, left
   Eigen::Vector3d settle_position_ = Eigen::Vector3d::Zero();
   std::array<FootReport, 2> foot_reports_; ///< right, left: the last step's
   std::vector<PadReport> pad_reports_;     ///< per pad: the last step's

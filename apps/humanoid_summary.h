@@ -43,6 +43,15 @@ struct HumanoidSummary {
   double final_roll = 0;               ///< measured waist roll at the end, rad
   double commanded_roll = 0;           ///< commanded waist roll at the end, rad
   double max_roll_difference = 0;      ///< max |commanded - measured| roll, rad
+  /// max |a_z| of the waist accelerometer (Output/Accelerometer bandwidth) over the run
+  double max_waist_acceleration_z_filtered = 0;
+  /// Hz: the accelerometer's cut-off used; 0: raw (0 set, or at or above 1 / (2 dt))
+  double accelerometer_bandwidth = 0;
+  // Landings of both feet (apps/landing_detector.h, landings.csv):
+  int n_landings = 0;                    ///< touchdowns detected
+  double max_landing_peak_force = 0;     ///< N, largest peak F_z of a landing window
+  double max_landing_impulse = 0;        ///< N s, largest impulse of a landing window
+  double max_landing_acceleration_z = 0; ///< largest filtered |a_z| in a landing window
   Eigen::Vector3d final_right_sole =
       Eigen::Vector3d::Zero(); ///< right sole frame origin (world) at end
   Eigen::Vector3d final_left_sole = Eigen::Vector3d::Zero();

@@ -1,6 +1,7 @@
 #include "apps/scene.h"
 
 #include "apps/choice.h"
+#include "apps/number_list.h"
 #include "fem/exception_text.h"
 
 #include <fstream>
@@ -54,6 +55,19 @@ void OutputParameters::declare(dealii::ParameterHandler& prm) {
                     "Humanoid scenes: write waist.csv, joints.csv and contacts.csv.");
   prm.declare_entry("Output every", "1", dealii::Patterns::Integer(1),
                     "Humanoid scenes: one CSV row every this many time steps.");
+  const OutputParameters d;
+  prm.declare_entry("Accelerometer bandwidth", number_text(d.accelerometer_bandwidth),
+                    Double(0, 1e4),
+                    "Humanoid scenes: cut-off (Hz) of the waist accelerometer, a second-order "
+                    "Butterworth low-pass of the raw a_z, [0, 1e4]; 0, or at or above the "
+                    "Nyquist frequency 1 / (2 Simulation/Time step): raw. waist.csv keeps the "
+                    "raw a_z (docs/walking.md).");
+  prm.declare_entry("Landing threshold", number_text(d.landing_threshold), Double(0, 1),
+                    "Humanoid scenes: a foot lands when its vertical force rises through this "
+                    "fraction of the robot's weight, (0, 1) (landings.csv).");
+  prm.declare_entry("Landing window", number_text(d.landing_window), Double(0, 1),
+                    "Humanoid scenes: the landing figures (impulse, peak force, rise time, "
+                    "peak filtered a_z) cover this time after touchdown (s), (0, 1].");
 }
 
 void OutputParameters::parse(dealii::ParameterHandler& prm) {
@@ -62,6 +76,19 @@ void OutputParameters::parse(dealii::ParameterHandler& prm) {
   output_every = prm.get_integer("Output every");
   vtk_every = prm.get_integer("VTK every");
   vtk_stick_radius = prm.get_double("VTK stick radius");
+  accelerometer_bandwidth = prm.get_double("Accelerometer bandwidth");
+  landing_threshold = prm.get_double("Landing threshold");
+  landing_window = prm.get_double("Landing window");
+  const auto require = [](bool ok, const char* name, double value, const char* range) {
+    if (!ok) {
+      std::ostringstream msg;
+      msg << "Output/" << name << " = " << value << ": must be in " << range;
+      throw std::invalid_argument(msg.str());
+    }
+  };
+  require(landing_threshold > 0 && landing_threshold < 1, "Landing threshold", landing_threshold,
+          "(0, 1)");
+  require(landing_window > 0 && landing_window <= 1, "Landing window", landing_window, "(0, 1] s");
 }
 
 void Scene::declare(dealii::ParameterHandler& prm) {

@@ -31,6 +31,16 @@ struct OutputParameters {
   int output_every = 1;  ///< humanoid scenes: one CSV row every this many steps, >= 1
   int vtk_every = 40;    ///< humanoid scenes: one ParaView frame every this many steps, >= 1
   double vtk_stick_radius = 0.02; ///< m, radius of the links drawn as sticks
+  /// Hz, [0, 1e4]: cut-off of the waist accelerometer's second-order Butterworth low-pass
+  /// (apps/butterworth_low_pass.h); 0, or at or above the Nyquist frequency 1 / (2 dt): raw
+  /// (the samples hold no higher frequency). 100 Hz: below the Nyquist frequency of every time
+  /// step of the convergence study (250 Hz at dt = 2 ms), within the range of a MEMS IMU's
+  /// digital low-pass (docs/walking.md).
+  double accelerometer_bandwidth = 100;
+  /// Landings (apps/landing_detector.h): touchdown when a foot's F_z rises through this
+  /// fraction of the robot's weight, (0, 1).
+  double landing_threshold = 0.01;
+  double landing_window = 0.05; ///< s, (0, 1]: the landing figures cover this after touchdown
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };

@@ -31,6 +31,17 @@ void check_walking_parameters(const WalkingParameters& p) {
   require(p.standing_before >= 0.0, "standing_before", p.standing_before, "[0, inf) s");
   require(p.standing_after >= 0.0, "standing_after", p.standing_after, "[0, inf) s");
   require(p.step_height >= 0.0 && p.step_height <= 0.3, "step_height", p.step_height, "[0, 0.3] m");
+  require(p.touchdown_velocity >= 0.0 && p.touchdown_velocity <= 1.0, "touchdown_velocity",
+          p.touchdown_velocity, "[0, 1] m/s");
+  if (p.touchdown_velocity * p.single_support_time > 19.0 * p.step_height) {
+    std::ostringstream msg;
+    msg << "WalkingParameters.touchdown_velocity = " << p.touchdown_velocity
+        << " m/s is outside [0, 19 step_height / single_support_time] = [0, "
+        << 19.0 * p.step_height / p.single_support_time
+        << "] m/s: a faster touchdown raises the swing foot above step_height = " << p.step_height
+        << " m";
+    throw std::invalid_argument(msg.str());
+  }
   require(p.ground_clearance >= 0.0 && p.ground_clearance <= 0.1, "ground_clearance",
           p.ground_clearance, "[0, 0.1] m");
   require(p.max_step_length > 0.0, "max_step_length", p.max_step_length, "(0, inf) m");
@@ -66,6 +77,23 @@ Eigen::Vector3d swing_height_profile(double tau) {
   const double da = 1.0 - 2.0 * tau;
   return Eigen::Vector3d(64.0 * a * a * a, 192.0 * a * a * da,
                          64.0 * (6.0 * a * da * da - 6.0 * a * a));
+}
+
+Eigen::Vector3d touchdown_profile(double tau) {
+  tau = std::clamp(tau, 0.0, 1.0);
+  // g = r (1 - tau), r = tau^3 (2 tau - 1)^2 = 4 tau^5 - 4 tau^4 + tau^3.
+  const double t2 = tau * tau, t3 = t2 * tau;
+  const double r = t3 * (2.0 * tau - 1.0) * (2.0 * tau - 1.0);
+  const double dr = 20.0 * t2 * t2 - 16.0 * t3 + 3.0 * t2;
+  const double d2r = 80.0 * t3 - 48.0 * t2 + 6.0 * tau;
+  return Eigen::Vector3d(r * (1.0 - tau), dr * (1.0 - tau) - r, d2r * (1.0 - tau) - 2.0 * dr);
+}
+
+Eigen::Vector3d swing_foot_height(const WalkingParameters& p, double tau) {
+  const double T = p.single_support_time;
+  const Eigen::Vector3d z =
+      p.step_height * swing_height_profile(tau) + p.touchdown_velocity * T * touchdown_profile(tau);
+  return Eigen::Vector3d(z(0), z(1) / T, z(2) / (T * T));
 }
 
 FootstepPlan make_footstep_plan(const WalkingParameters& p) {
@@ -126,7 +154,7 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
       if (time < ss_end) { // single support: swing foot in the air
         const double tau = (time - ss_start[i]) / p.single_support_time;
         const double s = quintic_transition(tau)(0);
-        const double h = p.step_height * swing_height_profile(tau)(0);
+        const double h = swing_foot_height(p, tau)(0);
         Eigen::Vector3d pos(swing.x + s * (target.x - swing.x), swing.y + s * (target.y - swing.y),
                             h);
         const double yaw = swing.yaw + s * std::remainder(target.yaw - swing.yaw, 2 * M_PI);

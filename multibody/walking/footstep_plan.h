@@ -34,6 +34,10 @@ struct WalkingParameters {
   double step_height = 0.07;                ///< swing-foot apex above the ground [m], [0, 0.3]
   double max_step_length = 0.45;            ///< longest allowed swing-foot travel [m], > 0
   bool right_foot_first = true;             ///< the right foot swings first
+  /// Planned vertical speed of the swing sole at touchdown [m/s], [0, 1]; 0: it lands at rest
+  /// (the paper's walk). With v > 0, v * single_support_time <= 19 step_height keeps the
+  /// apex at step_height (swing_foot_height).
+  double touchdown_velocity = 0.0;
   /// Height of the sole frames above the ground [m], [0, 0.1]: a sole of that thickness under
   /// the feet. The cart-table height becomes com_height + ground_clearance (the CoM height
   /// above the ground, where the ZMP is).
@@ -76,9 +80,25 @@ Eigen::Vector3d quintic_transition(double tau);
 /// velocity and acceleration at lift-off and touchdown). Returns (h, dh/dtau, d2h/dtau2).
 Eigen::Vector3d swing_height_profile(double tau);
 
+/// Touchdown term g(tau) = tau^3 (1 - tau) (2 tau - 1)^2: g = g' = g'' = 0 at tau = 0,
+/// g(1/2) = g'(1/2) = 0, g(1) = 0, g'(1) = -1 (g''(1) = -14), g >= 0 on [0, 1]. Returns (g,
+/// dg/dtau, d2g/dtau2).
+Eigen::Vector3d touchdown_profile(double tau);
+
+/// Height of the swing sole above the ground, tau = (t - t_lift-off) / T_ss in [0, 1]:
+///   z(tau) = H h(tau) + v T_ss g(tau)
+/// (H = step_height [m], v = touchdown_velocity [m/s], T_ss = single_support_time [s]; h =
+/// swing_height_profile, g = touchdown_profile). z, dz/dt and d2z/dt2 are 0 at lift-off;
+/// z(1/2) = H with dz/dt = 0; z(1) = 0 with dz/dt = -v. The apex is H (at tau = 1/2) for
+/// v T_ss <= 19.2 H (checked with 19: check_walking_parameters); v = 0 gives H h(tau) exactly.
+/// Returns (z [m], dz/dt [m/s], d2z/dt2 [m/s^2]).
+Eigen::Vector3d swing_foot_height(const WalkingParameters& params, double tau);
+
 /// Samples the plan: ZMP reference and both sole trajectories. The swing sole moves
-/// horizontally (and in yaw) by quintic_transition and vertically by step_height *
-/// swing_height_profile over the single-support time.
+/// horizontally (and in yaw) by quintic_transition and vertically by swing_foot_height over
+/// the single-support time. From the planned touchdown on, the sole's reference stays at z = 0:
+/// the ground decides the real touchdown; a foot still in the air (a late touchdown) is driven
+/// down only by the joint PD tracking that reference.
 FootstepPlan make_footstep_plan(const WalkingParameters& params);
 
 } // namespace plantar::walking
