@@ -246,14 +246,16 @@ def make_case(rng, scenes, source, case_dir):
 
 
 def undefined_allowed(header, cells, column):
-    """A centre of pressure (or ZMP) is undefined, and written as NaN, where its force is 0."""
+    """A foot's centre of pressure (or the feet's ZMP) is undefined, and written as NaN, where
+    the foot (both feet) carries less than 1 N (apps/humanoid_simulation.cc, docs/scenes.md)."""
     name = header[column]
     value = dict(zip(header, cells))
+    min_load = 1.0
     for suffix in ("_copx", "_copy"):
         if name.endswith(suffix):
-            return float(value.get(name[:-len(suffix)] + "_fz", "nan")) == 0.0
+            return float(value.get(name[:-len(suffix)] + "_fz", "nan")) <= min_load
     if name.startswith("zmp_"):
-        return sum(float(value[h]) for h in header if h.endswith("_fz")) == 0.0
+        return float(value["right_fz"]) + float(value["left_fz"]) <= min_load
     return False
 
 
