@@ -50,11 +50,14 @@ Reads SCENE.prm, checks every parameter, runs the scene and writes into DIR:
   parameters.prm   the full parameter set used (reproducibility)
   summary.txt      the figures printed at the end
   sole.vtu         the sole's fields for ParaView (static sole scene)
-  waist.csv        humanoid scenes: waist position, velocity, acceleration, roll
+  waist.csv        humanoid scenes: waist position, velocity, acceleration (raw and
+                   filtered, Output/Accelerometer bandwidth), roll
   joints.csv       humanoid scenes: every joint's position, reference and PD torque
   contacts.csv     humanoid scenes: force and centre of pressure per foot, ZMP
   summary.csv      humanoid scenes: the summary's figures as name,value
   unconverged_solves.csv  humanoid scenes: each contact solve above Contact/Tolerance
+  landings.csv     humanoid scenes: each touchdown of a foot: impulse, peak force, rise
+                   time, filtered peak waist acceleration
   figures/         humanoid scenes: PNG figures (plantar plot; not with --no-figures)
 A humanoid run that fails (fall, non-finite state, contact solve above
 Contact/Failure residual, deep penetration, a sole past its validity) names the
