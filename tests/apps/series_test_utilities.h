@@ -5,7 +5,12 @@
 #include "apps/time_series.h"
 
 #include <vtkCell.h>
+#include <vtkDataArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include <gtest/gtest.h>
 
@@ -13,6 +18,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -65,6 +71,30 @@ inline double cell_volume(vtkCell* cell) {
            tetra(0, 4, 5, 6) + tetra(0, 5, 1, 6);
   ADD_FAILURE() << "cell with " << cell->GetNumberOfPoints() << " points";
   return 0;
+}
+
+/// int f dV over the cells of the .vtu at @p path for its piecewise-constant field @p name
+/// (deal.II writes cell data as point data on each cell's own vertices); NaN, with a test
+/// failure, if @p name or one of @p also_present is missing.
+inline double vtu_cell_integral(const std::filesystem::path& path, const char* name,
+                                const std::vector<const char*>& also_present) {
+  vtkNew<vtkXMLUnstructuredGridReader> reader;
+  reader->SetFileName(path.c_str());
+  reader->Update();
+  vtkUnstructuredGrid* grid = reader->GetOutput();
+  for (const char* other : also_present)
+    EXPECT_NE(grid->GetPointData()->GetArray(other), nullptr) << path << ": " << other;
+  vtkDataArray* field = grid->GetPointData()->GetArray(name);
+  if (field == nullptr) {
+    ADD_FAILURE() << path << ": no array " << name;
+    return std::nan("");
+  }
+  double integral = 0;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
+    vtkCell* cell = grid->GetCell(c);
+    integral += field->GetTuple1(cell->GetPointId(0)) * cell_volume(cell);
+  }
+  return integral;
 }
 
 } // namespace plantar::app::testing

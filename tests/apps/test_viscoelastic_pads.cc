@@ -16,13 +16,6 @@
 #include "tests/apps/humanoid_test_utilities.h"
 #include "tests/apps/series_test_utilities.h"
 
-#include <vtkCell.h>
-#include <vtkDataArray.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -34,7 +27,6 @@
 namespace plantar::app {
 namespace {
 
-using testing::cell_volume;
 using testing::series_difference;
 
 /// An SLS pad rubber (illustrative): E_inf = 1 MPa, E_1 = 1 MPa at tau = 10 ms.
@@ -124,20 +116,8 @@ TEST(ViscoelasticPads, EnergyBalanceAndDissipationField) {
     multibody::Data data(simulation.model());
     multibody::forward_kinematics(simulation.model(), data, simulation.q());
     pads.write_fields(0, data, path);
-    vtkNew<vtkXMLUnstructuredGridReader> reader;
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    vtkUnstructuredGrid* grid = reader->GetOutput();
-    // deal.II writes cell data as point data on each cell's own (unshared) vertices.
-    vtkDataArray* density = grid->GetPointData()->GetArray("dissipated_energy_density");
-    ASSERT_NE(density, nullptr);
-    ASSERT_NE(grid->GetPointData()->GetArray("overstress_1"), nullptr);
-    ASSERT_NE(grid->GetPointData()->GetArray("strain"), nullptr);
-    double integral = 0;
-    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
-      vtkCell* cell = grid->GetCell(c);
-      integral += density->GetTuple1(cell->GetPointId(0)) * cell_volume(cell);
-    }
+    const double integral =
+        testing::vtu_cell_integral(path, "dissipated_energy_density", {"overstress_1", "strain"});
     const double dissipated = pads.viscoelastic(0)->sole().dissipated_energy();
     std::printf("right pad .vtu: int dissipated_energy_density dV = %.6e J; dissipated %.6e J\n",
                 integral, dissipated);

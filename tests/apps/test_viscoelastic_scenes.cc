@@ -17,14 +17,6 @@
 #include "tests/apps/humanoid_test_utilities.h"
 #include "tests/apps/series_test_utilities.h"
 
-#include <vtkCell.h>
-#include <vtkDataArray.h>
-#include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkUnstructuredGrid.h>
-#include <vtkXMLUnstructuredGridReader.h>
-
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -37,7 +29,6 @@
 namespace plantar::app {
 namespace {
 
-using testing::cell_volume;
 using testing::series_difference;
 
 /// The SLS rubber of the tests (illustrative): E_inf = 2 MPa, E_1 = 2 MPa at tau = 10 ms.
@@ -118,20 +109,8 @@ TEST(ViscoelasticScenes, EnergyBalanceAndDissipationField) {
     multibody::forward_kinematics(simulation.model(), data, simulation.q());
     feet.write_fields(0, multibody::frame_placement(simulation.model(), data, feet.sole_frame(0)),
                       path);
-    vtkNew<vtkXMLUnstructuredGridReader> reader;
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    vtkUnstructuredGrid* grid = reader->GetOutput();
-    // deal.II writes cell data as point data on each cell's own (unshared) vertices.
-    vtkDataArray* density = grid->GetPointData()->GetArray("dissipated_energy_density");
-    ASSERT_NE(density, nullptr);
-    ASSERT_NE(grid->GetPointData()->GetArray("overstress_1"), nullptr);
-    ASSERT_NE(grid->GetPointData()->GetArray("von_mises"), nullptr);
-    double integral = 0;
-    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c) {
-      vtkCell* cell = grid->GetCell(c);
-      integral += density->GetTuple1(cell->GetPointId(0)) * cell_volume(cell);
-    }
+    const double integral = testing::vtu_cell_integral(path, "dissipated_energy_density",
+                                                       {"overstress_1", "von_mises"});
     const Balance b = balance(feet, 0);
     std::printf("right sole .vtu: int dissipated_energy_density dV = %.6e J; dissipated %.6e "
                 "J; work - stored %.6e J\n",
