@@ -172,6 +172,7 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   prm.enter_subsection("Sweep");
   sweep.parse(prm);
   prm.leave_subsection();
+  sweep.check_axes(prm);
 }
 
 namespace {

@@ -4,6 +4,7 @@
 #include "apps/point_process.h"
 #include "apps/sweep_queue.h"
 #include "fem/atomic_file.h"
+#include "fem/exception_text.h"
 
 #include <chrono>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
@@ -33,11 +35,34 @@ std::string short_number(double value) {
   return text;
 }
 
-/// The complete scene file of @p point: @p scene_file with the point's form, time step and
-/// material, absolute model and mesh paths, and no Sweep or Foot forms entries.
+/// Sets @p value to the entry of @p axis in @p prm; throws naming the axis and the value.
+void set_axis_value(dealii::ParameterHandler& prm, const SweepAxis& axis,
+                    const std::string& value) {
+  for (const std::string& s : axis.subsections)
+    prm.enter_subsection(s);
+  std::string error;
+  try {
+    prm.set(axis.entry, value);
+  } catch (const std::exception& e) {
+    error = e.what();
+  }
+  for (std::size_t i = 0; i < axis.subsections.size(); ++i)
+    prm.leave_subsection();
+  if (!error.empty())
+    throw std::invalid_argument(axis.name + ": value '" + value + "' is not allowed for " +
+                                axis.path() + " (plantar print-parameters gives its range)");
+}
+
+/// The complete scene file of @p point: @p scene_file with the point's general axes' values,
+/// form, time step and material, absolute model and mesh paths, and no Sweep or Foot forms
+/// entries.
 std::string point_scene(const fs::path& scene_file, const Scene& scene, const SweepPoint& point) {
   dealii::ParameterHandler prm;
   read_scene_file(scene_file, prm);
+  for (std::size_t a = 0; a < scene.sweep.axes.size(); ++a) {
+    const SweepAxis& axis = scene.sweep.axes[a];
+    set_axis_value(prm, axis, axis.values[point.axis_values[a]]);
+  }
   prm.enter_subsection("Robot");
   prm.set("Foot form", to_string(point.form));
   prm.set("Foot forms", "");
@@ -58,10 +83,44 @@ std::string point_scene(const fs::path& scene_file, const Scene& scene, const Sw
   prm.enter_subsection("Sweep");
   for (const char* entry : {"Young's moduli", "Poisson ratios", "Relaxation times", "Time steps"})
     prm.set(entry, "");
+  for (int n = 1; n <= SweepParameters::max_axes; ++n)
+    prm.set("Axis " + std::to_string(n), "");
   prm.leave_subsection();
   std::ostringstream out;
   prm.print_parameters(out, dealii::ParameterHandler::PRM);
   return out.str();
+}
+
+/// Throws std::invalid_argument naming @p point's general axes' values if its scene @p text
+/// does not parse (a value out of its entry's range or at odds with another entry).
+void check_point_scene(const std::string& text, const Scene& scene, const SweepPoint& point,
+                       const fs::path& scene_directory) {
+  if (scene.sweep.axes.empty())
+    return;
+  try {
+    dealii::ParameterHandler prm;
+    Scene::declare(prm);
+    prm.parse_input_from_string(text);
+    Scene parsed;
+    parsed.parse(prm, scene_directory);
+  } catch (const std::exception& e) {
+    std::string values;
+    for (std::size_t a = 0; a < scene.sweep.axes.size(); ++a)
+      values += (a ? ", " : "") + scene.sweep.axes[a].name + " value '" +
+                scene.sweep.axes[a].values[point.axis_values[a]] + "'";
+    throw std::invalid_argument("sweep point " + point.id + " (" + values +
+                                "): " + fem::exception_text(e));
+  }
+}
+
+/// @p text as one CSV field (quoted when it holds a comma or a quote).
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\n") == std::string::npos)
+    return text;
+  std::string quoted = "\"";
+  for (const char c : text)
+    quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
 }
 
 } // namespace
@@ -130,6 +189,20 @@ std::vector<SweepPoint> sweep_points(const Scene& scene) {
         }
       }
     }
+  // The general axes: every point times every combination of their values (the last axis
+  // varying fastest).
+  for (const SweepAxis& axis : scene.sweep.axes) {
+    std::vector<SweepPoint> expanded;
+    expanded.reserve(points.size() * axis.values.size());
+    for (const SweepPoint& p : points)
+      for (std::size_t v = 0; v < axis.values.size(); ++v) {
+        SweepPoint q = p;
+        q.axis_values.push_back(v);
+        q.id += "_" + axis.tag(v);
+        expanded.push_back(q);
+      }
+    points = std::move(expanded);
+  }
   return points;
 }
 
@@ -145,7 +218,20 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
     return fs::exists(dir / "summary.csv") || fs::exists(dir / "failure.txt");
   };
 
-  // Parameters of the sweep, then the points' scene files.
+  // The points' scene files, all checked before anything is written; then the sweep's
+  // parameters and the scene files.
+  std::vector<const SweepPoint*> pending;
+  std::vector<std::string> texts;
+  int n_done_before = 0;
+  for (const SweepPoint& p : points) {
+    if (done(p)) {
+      ++n_done_before;
+      continue;
+    }
+    texts.push_back(point_scene(scene_file, scene, p));
+    check_point_scene(texts.back(), scene, p, fs::absolute(scene_file).parent_path());
+    pending.push_back(&p);
+  }
   {
     std::ostringstream text;
     dealii::ParameterHandler prm;
@@ -154,18 +240,9 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
     fem::write_file_atomically(output / "parameters.prm",
                                [&](std::ostream& os) { os << text.str(); });
   }
-  std::vector<const SweepPoint*> pending;
-  int n_done_before = 0;
-  for (const SweepPoint& p : points) {
-    if (done(p)) {
-      ++n_done_before;
-      continue;
-    }
-    const std::string text = point_scene(scene_file, scene, p);
-    fem::write_file_atomically(output / "points" / p.id / "scene.prm",
-                               [&](std::ostream& os) { os << text; });
-    pending.push_back(&p);
-  }
+  for (std::size_t i = 0; i < pending.size(); ++i)
+    fem::write_file_atomically(output / "points" / pending[i]->id / "scene.prm",
+                               [&](std::ostream& os) { os << texts[i]; });
   const int ranks = sweep_ranks();
   std::ostringstream processes;
   processes << jobs << " process" << (jobs > 1 ? "es" : "");
@@ -207,8 +284,21 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
   std::ostringstream table, failures;
   table << "id,foot_form,time_step,E,nu,status,max_waist_acceleration_z,roll_difference_deg,"
            "max_roll_difference_deg,n_steps,mean_solver_iterations,n_unconverged,"
-           "n_validity_warnings,loop_wall_time,tau1,sole_dissipated_energy\n"
-        << std::setprecision(17);
+           "n_validity_warnings,loop_wall_time,tau1,sole_dissipated_energy";
+  // The landing figures (issue 23), then one column per general axis (its entry's path).
+  const char* const landing_columns[] = {"max_waist_acceleration_z_filtered", "n_landings",
+                                         "max_landing_peak_force", "max_landing_impulse",
+                                         "max_landing_acceleration_z"};
+  for (const char* name : landing_columns)
+    table << "," << name;
+  for (const SweepAxis& axis : scene.sweep.axes)
+    table << "," << csv_field(axis.path());
+  table << "\n" << std::setprecision(17);
+  const auto axis_columns = [&](const SweepPoint& p) {
+    for (std::size_t a = 0; a < scene.sweep.axes.size(); ++a)
+      table << "," << csv_field(scene.sweep.axes[a].values[p.axis_values[a]]);
+    table << "\n";
+  };
   int n_failed = 0, n_missing = 0;
   for (const SweepPoint& p : points) {
     const fs::path dir = output / "points" / p.id;
@@ -229,13 +319,19 @@ int run_sweep(const fs::path& scene_file, const Scene& scene, const fs::path& ou
       table << ",";
       if (p.relaxation_time > 0)
         table << p.relaxation_time;
-      table << "," << read_summary_value(s, "sole_dissipated_energy") << "\n";
+      table << "," << read_summary_value(s, "sole_dissipated_energy");
+      for (const char* name : landing_columns)
+        table << "," << read_summary_value(s, name);
+      axis_columns(p);
       continue;
     }
     table << (fs::exists(dir / "failure.txt") ? "failed" : "missing") << ",,,,,,,,,";
     if (p.relaxation_time > 0)
       table << p.relaxation_time;
-    table << ",\n";
+    table << ",";
+    for (std::size_t i = 0; i < std::size(landing_columns); ++i)
+      table << ",";
+    axis_columns(p);
     if (fs::exists(dir / "failure.txt")) {
       ++n_failed;
       std::ifstream in(dir / "failure.txt");

@@ -1,6 +1,7 @@
 #pragma once
 // `plantar sweep`: one run of a scene per grid point (foot form x time step x, for the FEM
-// sole, Young's modulus x Poisson ratio x relaxation time; subsection Sweep), each in its own child
+// sole, Young's modulus x Poisson ratio x relaxation time, times the general axes Sweep/Axis N,
+// each any scene entry; subsection Sweep), each in its own child
 // process `plantar run DIR/points/<id>/scene.prm -o DIR/points/<id>`, up to N at a time. A point is
 // finished when its DIR/points/<id>/summary.csv (or failure.txt) exists; both are written
 // atomically, so an interrupted sweep resumes without recomputing finished points.
@@ -22,12 +23,15 @@ struct SweepPoint {
   double poisson_ratio = 0;  ///< valid if youngs_modulus or has_poisson_ratio
   bool has_poisson_ratio = false;
   double relaxation_time = 0; ///< s, tau1 of a law=prony sole; 0: the scene's material
-  std::string id;             ///< directory name, e.g. fem_sole_dt1ms_E4MPa_nu0.3
+  /// The value index of each general axis (Sweep/Axis N, scene.sweep.axes order).
+  std::vector<std::size_t> axis_values;
+  std::string id; ///< directory name, e.g. fem_sole_dt1ms_E4MPa_nu0.3
 };
 
 /// The grid of @p scene: forms (Robot/Foot forms, or Robot/Foot form) x Sweep/Time steps (or
 /// Simulation/Time step) x, for fem sole, Sweep/Young's moduli x Sweep/Poisson ratios x
-/// Sweep/Relaxation times.
+/// Sweep/Relaxation times, times every general axis (the last varying fastest; each adds
+/// "_<tag>" to the id, SweepAxis::tag).
 std::vector<SweepPoint> sweep_points(const Scene& scene);
 
 /// Sole/Materials @p materials with every "E=..." replaced by @p youngs_modulus (if > 0) and

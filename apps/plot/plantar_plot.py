@@ -239,6 +239,42 @@ def plot_sweep(plt, directory):
         figure.suptitle("Viscoelastic sole: relaxation-time sweep", fontsize=10)
         figure.tight_layout()
         made.append(save(figure, out, "sweep_relaxation_time.png"))
+    # The general axes (Sweep/Axis N, the columns after the landing figures): the criterion
+    # against each axis's values, one curve per foot form and values of the other axes.
+    header = list(table.keys())
+    first = header.index("max_landing_acceleration_z") + 1 if (
+        "max_landing_acceleration_z" in header) else len(header)
+    axes_names = header[first:]
+    for k, name in enumerate(axes_names):
+        others = [a for a in axes_names if a != name]
+        curves = {}
+        for i in ok:
+            key = (table["foot_form"][i],) + tuple(table[a][i] for a in others)
+            curves.setdefault(key, []).append((table[name][i], table[metric][i]))
+        if not curves:
+            continue
+        numeric = all(isinstance(table[name][i], float) for i in ok)
+        categories = list(dict.fromkeys(str(table[name][i]) for i in ok))
+        figure, axis = plt.subplots(figsize=(6.5, 4.2))
+        for key, pts in curves.items():
+            label = ", ".join([key[0]] + ["%s = %s" % (a, v) for a, v in zip(others, key[1:])])
+            if numeric:
+                pts.sort()
+                xs = [p[0] for p in pts]
+            else:
+                xs = [categories.index(str(p[0])) for p in pts]
+            axis.plot(xs, [p[1] for p in pts], "o-", label=label,
+                      color=COLORS.get(key[0].replace(" ", "_")) if not others else None)
+        if not numeric:
+            axis.set_xticks(range(len(categories)))
+            axis.set_xticklabels(categories)
+        axis.set_xlabel(name)
+        axis.set_ylabel(ylabel)
+        axis.set_title("Sweep over %s" % name, fontsize=10)
+        axis.grid(True, linewidth=0.3)
+        axis.legend(fontsize=7)
+        figure.tight_layout()
+        made.append(save(figure, out, "sweep_axis_%d.png" % (k + 1)))
     if not made:
         fail("'%s': no finished point to plot" % os.path.join(directory, "sweep.csv"))
     return made
