@@ -1,14 +1,17 @@
 // Work-precision study of the humanoid scenes (issue 8): speed against error.
 //
 //   work_precision SCENE.prm [SCENE.prm ...] --out DIR [--repeat R] [--duration-drop S]
-//                  [--duration-walk S] [--base-only] [--no-hyperelastic]
+//                  [--duration-walk S] [--base-only] [--no-hyperelastic] [--only KNOB,...]
 //
 // For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole
 // scene unless given), one knob at a time is varied from the scene's own setting, the others
 // kept: sole mesh size, element degree, time step, the time step with the theta = 1/2 stepper
 // on a Kelvin-Voigt sole ("damped theta 1/2 dt"), contact solver tolerance, sole model
 // (reduced patches nx x ny, full) and the hyperelastic sole (Neo-Hookean, same E and nu, full
-// sole; Sole/Recondensation tolerance = Sole/Check tolerance varied). Each knob's finest value
+// sole; Sole/Recondensation tolerance = Sole/Check tolerance varied) and the viscoelastic sole
+// (one Prony branch of half the scene's E relaxing in 4.5 ms: a standard linear solid whose
+// instantaneous modulus is the scene's, docs/reproduction.md), its time step and its mesh size
+// varied. --only runs the named knobs (and rigid feet). Each knob's finest value
 // is that knob's reference; the row "linear vs hyper" is the linear full sole against the
 // tightest hyperelastic run. Errors against the reference:
 //   e_a  |max |a_z,waist| - ref| / ref                   (the paper's criterion)
@@ -73,6 +76,7 @@ struct Result {
   double refused_cone_fraction = 0, refused_residual_fraction = 0;
   double sweeps_after_refusal = 0, local_solves_per_sweep = 0;
   double peak_az = 0, max_deformation = 0;
+  double dissipated = 0;       // J, by viscoelastic soles
   std::vector<double> impulse; // vertical impulse per step, N s
   std::vector<double> vz;      // waist vertical velocity per step (world frame), m/s
   double e_a = NAN, e_u = NAN, e_p = NAN;
@@ -170,6 +174,7 @@ void run_one(const Scene& scene, Result& result, int repeat) {
               : 0;
       result.peak_az = summary.max_waist_acceleration_z;
       result.max_deformation = max_deformation;
+      result.dissipated = summary.sole_dissipated_energy;
       result.impulse = impulse;
       const TimeSeries& waist = simulation.waist_series();
       result.vz.clear();
@@ -279,6 +284,26 @@ void make_hyperelastic(Scene& s, double tolerance) {
   s.sole_reduction = {};
 }
 
+/// The scene's linear sole "name: law=linear, E=..., nu=..." as the standard linear solid
+/// "name: law=prony, E=E/2, nu=nu, E1=E/2, tau1=4.5e-3": instantaneous modulus E, long-term E/2,
+/// loss factor peak 0.354 at 25 Hz (docs/reproduction.md). Throws if the sole has no E= or nu=.
+void make_viscoelastic(Scene& s) {
+  const std::string& m = s.sole.materials;
+  const auto value = [&](const std::string& key) {
+    const auto at = m.find(" " + key + "=");
+    if (at == std::string::npos)
+      throw std::invalid_argument("work_precision: Sole/Materials '" + m + "' has no " + key + "=");
+    return std::stod(m.substr(at + key.size() + 2));
+  };
+  const double e = value("E"), nu = value("nu");
+  const auto colon = m.find(':');
+  const std::string name = colon == std::string::npos ? "rubber" : m.substr(0, colon);
+  s.sole.materials = name + ": law=prony, E=" + fmt(e / 2, "%.17g") + ", nu=" + fmt(nu, "%.17g") +
+                     ", E1=" + fmt(e / 2, "%.17g") + ", tau1=4.5e-3";
+  s.sole.damping_time = 0;
+  s.sole_reduction = {};
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -288,6 +313,7 @@ int main(int argc, char** argv) {
   bool base_only = false;   // --base-only: the scene's own setting (fem sole) and rigid feet
   bool hyperelastic = true; // --no-hyperelastic: skip the hyperelastic-sole knob
   double duration_drop = 0.5, duration_walk = 0;
+  std::vector<std::string> only; // --only: the knobs to run (all when empty)
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc)
@@ -302,11 +328,19 @@ int main(int argc, char** argv) {
       hyperelastic = false;
     else if (a == "--duration-walk" && i + 1 < argc)
       duration_walk = std::atof(argv[++i]);
-    else if (!a.empty() && a[0] != '-')
+    else if (a == "--only" && i + 1 < argc) {
+      std::string list = argv[++i];
+      for (std::size_t start = 0; start <= list.size();) {
+        const auto comma = std::min(list.find(',', start), list.size());
+        only.push_back(list.substr(start, comma - start));
+        start = comma + 1;
+      }
+    } else if (!a.empty() && a[0] != '-')
       scenes.emplace_back(a);
     else {
       std::cerr << "usage: work_precision SCENE.prm ... --out DIR [--repeat R] "
-                   "[--duration-drop S] [--duration-walk S] [--base-only] [--no-hyperelastic]\n";
+                   "[--duration-drop S] [--duration-walk S] [--base-only] [--no-hyperelastic] "
+                   "[--only KNOB,...]\n";
       return 1;
     }
   }
@@ -392,6 +426,31 @@ int main(int argc, char** argv) {
             {"hyperelastic tol", fmt(tol, "%.3g"), [tol](Scene& s) { make_hyperelastic(s, tol); }});
       knobs.push_back(v);
     }
+    {
+      // The viscoelastic sole (make_viscoelastic): its time step and its mesh size; the
+      // finest of each is its reference.
+      std::vector<Variant> v;
+      for (double f : {2.0, 1.0, 0.5, 0.25, 0.125})
+        v.push_back({"visco dt", fmt(dt0 * f, "%.3g"), [d = dt0 * f](Scene& s) {
+                       make_viscoelastic(s);
+                       s.simulation.time_step = d;
+                     }});
+      knobs.push_back(v);
+      v.clear();
+      for (double f : {4.0 / 3.0, 1.0, 2.0 / 3.0, 0.5})
+        v.push_back({"visco mesh", fmt(h0 * f, "%.3g"), [h = h0 * f](Scene& s) {
+                       make_viscoelastic(s);
+                       s.sole.mesh_size = h;
+                     }});
+      knobs.push_back(v);
+    }
+    if (!only.empty())
+      knobs.erase(std::remove_if(knobs.begin(), knobs.end(),
+                                 [&](const std::vector<Variant>& k) {
+                                   return std::find(only.begin(), only.end(), k.front().knob) ==
+                                          only.end();
+                                 }),
+                  knobs.end());
     if (base_only)
       knobs = {{{"base", "scene", [](Scene&) {}}}};
     const double window = 4 * dt0; // the coarsest time step of the sweep
@@ -416,7 +475,7 @@ int main(int argc, char** argv) {
         compare(r, rows.back(), window);
       results.insert(results.end(), rows.begin(), rows.end());
     }
-    if (hyperelastic) {
+    if (hyperelastic && only.empty()) {
       // Nonlinear against linear: the linear full sole against the hyperelastic reference.
       const Result *linear = nullptr, *nonlinear = nullptr;
       for (const auto& r : results)
@@ -451,7 +510,7 @@ int main(int argc, char** argv) {
          "other,setup_s,peak_az,max_deformation,e_a,e_u,e_p,solve_us,pass_us,solve_over_pass,"
          "compared_until_s,peak_az_walk,peak_az_avg10,e_a_walk,e_a_avg10,direct_fraction,"
          "refused_cone_fraction,refused_residual_fraction,sweeps_after_refusal,"
-         "local_solves_per_sweep\n";
+         "local_solves_per_sweep,sole_dissipated_J\n";
   std::printf(
       "%-5s %-11s %-13s %8s %8s %6s %7s %8s %8s %8s %8s %8s %9s %9s %9s %8s %6s %9s %9s %6s\n",
       "scene", "knob", "value", "cpu/sim", "wall/sim", "x_rt", "dyn", "build", "sole", "solve",
@@ -471,7 +530,7 @@ int main(int argc, char** argv) {
         << "," << r.horizon << "," << r.peak_walk << "," << r.peak_avg10 << "," << r.e_w << ","
         << r.e_10 << "," << r.direct_fraction << "," << r.refused_cone_fraction << ","
         << r.refused_residual_fraction << "," << r.sweeps_after_refusal << ","
-        << r.local_solves_per_sweep << "\n";
+        << r.local_solves_per_sweep << "," << r.dissipated << "\n";
     std::printf(
         "%-5s %-11s %-13s %8.3f %8.3f %6.1f %7.3f %8.3f %8.3f %8.3f %8.3f %8.2f %9.2e %9.2e "
         "%9.2e %8.1f %6.1f %9.2e %9.2e %6.2f %s\n",
