@@ -1,0 +1,24 @@
+#!/bin/sh
+# The convergence study of the walk's impact figures (issue 23) in one command:
+#   bench/impact_convergence/run.sh [BUILD_DIR] [OUT_DIR] [JOBS]
+# Four sweeps (plantar sweep, resumable): walk_dt.prm (three foot forms, dt 2 to 0.125 ms,
+# theta 1/2 and 1), walk_dt_sole.prm (elastic and viscoelastic sole, theta 1/2 and 1),
+# walk_mesh.prm (FEM sole, P1 3 to 1 cm), walk_mesh_p2.prm (P2 3 to 1.5 cm); then
+# OUT_DIR/tables.md by table.py (figures, observed orders, error of the finest).
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+build=${1:-$root/build}
+out=${2:-$build/impact_convergence}
+jobs=${3:-1}
+cmake --build "$build" --target plantar -j2
+export PLANTAR_MESH_CACHE=${PLANTAR_MESH_CACHE:-$build/mesh-cache}
+mkdir -p "$out"
+for study in walk_dt walk_dt_sole walk_mesh walk_mesh_p2; do
+  # A failed point (a fall) is a result of the study, not an error of the script.
+  "$build/apps/plantar" sweep "$here/$study.prm" -o "$out/$study" -j "$jobs" || true
+done
+/usr/bin/python3 "$here/table.py" "$out/walk_dt" "$out/walk_dt_sole" "$out/walk_mesh" \
+  "$out/walk_mesh_p2" >"$out/tables.md"
+cat "$out/tables.md"
+exit 0
