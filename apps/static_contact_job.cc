@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -22,6 +23,10 @@
 namespace plantar::app {
 
 namespace {
+
+/// Cells a static contact run may have: a cluster-size problem (docs/static_contact.md: 137k
+/// DoF take 2.4 GB with MUMPS), refused beyond as a mistyped refinement or mesh size.
+constexpr double kMaxCells = 5e7;
 
 /// The sole's mesh: generated (gmsh) on rank 0 first, so that the ranks never write the cache
 /// at once, then imported on every rank. A failure on rank 0 is thrown on every rank.
@@ -93,6 +98,15 @@ StaticContactResult run_static_contact(const Scene& scene, const std::filesystem
                                 "hexahedra only); set Sole/Cell kind = hexahedron");
   dealii::Triangulation<3> coarse;
   const auto groups = load_mesh(scene, communicator, coarse);
+  const double n_cells = coarse.n_active_cells() * std::pow(8.0, parameters.refinements);
+  if (n_cells > kMaxCells) {
+    std::ostringstream msg;
+    msg << "Static contact/Refinements = " << parameters.refinements << " on the "
+        << coarse.n_active_cells() << " cells of Sole/Mesh size = " << scene.sole.mesh_size
+        << " gives " << n_cells << " cells: at most " << kMaxCells
+        << " (about 2e8 DoF in Q1); refine less or mesh coarser";
+    throw std::invalid_argument(msg.str());
+  }
   const fem::MaterialTable materials = [&] {
     try {
       return fem::MaterialTable(fem::parse_material_specs(scene.sole.materials, "Sole/Materials"),
