@@ -11,6 +11,8 @@ once, Q1, under the tilted foot of the fem test fem.distributed_contact (transla
     reference; here the scene reads the same case from a gmsh mesh);
   * the forces balance: foot force + ground force = 0 to 1e-9 of |ground force|;
   * part of the sole lifts off, part sticks, part slips (the case of the fem test);
+  * force control (serial): the serial run's force and moments as the load, started from another
+    displacement, give back the prescribed displacement (1e-6) and force (1e-9);
   * a tetrahedral sole at 2 ranks: exit status 1, one error message naming Sole/Cell kind.
 Exit status 0 on success, 1 with the failed checks listed.
 """
@@ -116,6 +118,32 @@ def main():
         print("ground force z: %.9f N, max pressure %.6g Pa, states %d/%d/%d" %
               (reference["ground_force_z"], reference["max_pressure"], reference["separated"],
                reference["stick"], reference["slip"]))
+
+    # Force control: the serial run's force and moments as the load, from another start.
+    if "serial" in results:
+        reference = results["serial"]
+        forced = work / "force.prm"
+        forced.write_text(SCENE.format(source=args.source, work=work, kind="hexahedron") +
+                          "subsection Static contact\n  set Control = force\n"
+                          f"  set Normal force = {-reference['foot_force_z']!r}\n"
+                          f"  set Moment x = {reference['foot_moment_x']!r}\n"
+                          f"  set Moment y = {reference['foot_moment_y']!r}\n"
+                          "  set Foot translation = 0.0003, 0.0001, -0.0002\n"
+                          "  set Foot rotation = 0, 0, 0\n  set Load tolerance = 1e-10\nend\n")
+        done = subprocess.run([args.plantar, "run", str(forced), "-o", str(work / "force")],
+                              capture_output=True, text=True, timeout=300)
+        print("force exit", done.returncode, done.stdout, done.stderr)
+        if check(done.returncode == 0, f"force control: exit status {done.returncode}"):
+            values = summary(work / "force")
+            check(values["load_iterations"] > 0, "force control: no quasi-Newton iteration")
+            for key, expected, scale in (("foot_translation_z", -0.001, 1e-3),
+                                         ("foot_rotation_x", 0.004, 0.015),
+                                         ("foot_rotation_y", 0.015, 0.015)):
+                check(abs(values[key] - expected) <= 1e-6 * scale,
+                      f"force control: {key} = {values[key]}, prescribed {expected}")
+            check(abs(values["foot_force_z"] - reference["foot_force_z"]) <=
+                  1e-9 * abs(reference["foot_force_z"]),
+                  f"force control: foot_force_z = {values['foot_force_z']}")
 
     bad = work / "tetrahedra.prm"
     bad.write_text(SCENE.format(source=args.source, work=work, kind="tetrahedron"))
