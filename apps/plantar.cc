@@ -9,11 +9,14 @@
 #include "apps/output_directory.h"
 #include "apps/parameter_listing.h"
 #include "apps/scene.h"
+#include "apps/static_contact_job.h"
 #include "apps/static_sole_job.h"
 #include "apps/sweep.h"
 #include "apps/sweep_queue.h"
 #include "fem/atomic_file.h"
 #include "fem/exception_text.h"
+
+#include <deal.II/base/mpi.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -32,7 +35,8 @@ const char* const main_help =
 
 Usage:
   plantar run SCENE.prm [-o DIR]           run a scene; outputs (parameters.prm, summary, CSV,
-                                           VTU, figures) go to DIR (default: out/<scene name>)
+                                           VTU, figures) go to DIR (default: out/<scene name>);
+                                           a static contact scene also under mpirun -np N
   plantar sweep SCENE.prm [-o DIR] [-j N]  run the grid of subsection Sweep, N processes at a
                                            time (per MPI rank under mpirun); resumes an
                                            interrupted sweep
@@ -50,6 +54,11 @@ Reads SCENE.prm, checks every parameter, runs the scene and writes into DIR:
   parameters.prm   the full parameter set used (reproducibility)
   summary.txt      the figures printed at the end
   sole.vtu         the sole's fields for ParaView (static sole scene)
+  contact.pvtu     static contact scene: the sole's fields for ParaView (displacement, stress,
+                   contact_traction on the bottom nodes), one contact_<rank>.vtu piece per
+                   MPI rank; summary.csv: DoF, ranks, iterations, forces, node states, time
+                   and peak memory per rank (docs/static_contact.md); contact_nodes.csv:
+                   each bottom node's force, displacement, area, pressure and state
   waist.csv        humanoid scenes: waist position, velocity, acceleration (raw and
                    filtered, Output/Accelerometer bandwidth), roll
   joints.csv       humanoid scenes: every joint's position, reference and PD torque
@@ -69,6 +78,9 @@ runs once per form into DIR/<form>/ (rigid, compliant_ankle, fem_sole) and the
 figures comparing them go to DIR/figures/ (plantar plot). A form that fails
 is reported with its message, its CSV up to the failure (DIR/<form>/failed/)
 is plotted, the other forms still run, and the exit status is 1.
+A static contact scene runs on distributed PETSc: `mpirun -np N plantar run
+SCENE.prm -o DIR` spreads the sole over N ranks (DIR on a file system all ranks
+share); without mpirun it runs on one. Other scene types run on one process.
 A progress bar (simulated time, real-time factor) is drawn on stderr when
 stdout and stderr are terminals.
 Files are written to a temporary name and renamed, so a failed or killed run
@@ -114,6 +126,69 @@ file with the defaults instead.
 
 /// Swallows what ranks other than 0 would print.
 std::ostream quiet(nullptr);
+
+/// main's arguments, for MPI's initialisation by a static contact run.
+int* main_argc = nullptr;
+char*** main_argv = nullptr;
+
+/// This process's rank as its MPI launcher set it (0 without a launcher): known before MPI is
+/// initialised, so that only rank 0 prints a scene's errors.
+int launcher_rank() {
+  for (const char* name : {"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"})
+    if (const char* value = std::getenv(name))
+      return std::atoi(value);
+  return 0;
+}
+
+/// The number of ranks the launcher started (1 without a launcher).
+int launcher_size() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* value = std::getenv(name))
+      return std::atoi(value);
+  return 1;
+}
+
+/// plantar run of a static contact scene, on every rank of MPI_COMM_WORLD (MPI and PETSc are
+/// initialised here, also without mpirun: one rank).
+int run_static_contact_scene(const std::string& scene_file, const app::Scene& scene,
+                             const dealii::ParameterHandler& prm,
+                             const std::filesystem::path& out) {
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(*main_argc, *main_argv, 1);
+  const bool rank0 = dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  std::string error;
+  if (rank0) {
+    try {
+      app::prepare_output_directory(out);
+      std::filesystem::create_directories(out);
+    } catch (const std::exception& e) {
+      error = fem::exception_text(e);
+    }
+  }
+  error = dealii::Utilities::MPI::broadcast(MPI_COMM_WORLD, error, 0);
+  if (!error.empty())
+    throw std::runtime_error(error);
+  app::StaticContactResult result;
+  try {
+    result = app::run_static_contact(scene, out, MPI_COMM_WORLD);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("scene '" + scene_file + "': " + fem::exception_text(e));
+  }
+  if (!rank0)
+    return 0;
+  std::ostringstream summary;
+  summary << "scene: " << scene_file << " (" << app::to_string(scene.type) << ")\n"
+          << app::format_static_contact_summary(result);
+  std::cout << summary.str();
+  fem::write_file_atomically(out / "parameters.prm", [&](std::ostream& os) {
+    prm.print_parameters(os, dealii::ParameterHandler::PRM);
+  });
+  fem::write_file_atomically(out / "summary.txt", [&](std::ostream& os) { os << summary.str(); });
+  // Last: its presence marks a finished run.
+  fem::write_file_atomically(out / "summary.csv",
+                             [&](std::ostream& os) { os << app::static_contact_csv(result); });
+  std::cout << "outputs in " << out.string() << "\n";
+  return 0;
+}
 
 bool wants_help(const std::vector<std::string>& args) {
   for (const auto& a : args)
@@ -168,6 +243,13 @@ int run(const std::vector<std::string>& args) {
   }
   dealii::ParameterHandler prm;
   const app::Scene scene = app::load_scene(scene_file, prm);
+  if (scene.type == app::SceneType::static_contact)
+    return run_static_contact_scene(scene_file, scene, prm, output_directory(scene_file, output));
+  if (launcher_size() > 1)
+    throw std::runtime_error("scene '" + scene_file +
+                             "': Scene type = " + app::to_string(scene.type) +
+                             " runs on one process; only static contact runs under mpirun "
+                             "with several ranks");
   // A robot that does not load fails here: once, not once per foot form, and before any output.
   if (scene.type != app::SceneType::static_sole) {
     try {
@@ -265,6 +347,9 @@ int sweep(const std::vector<std::string>& args) {
     dealii::ParameterHandler prm;
     const app::Scene scene = app::load_scene(scene_file, prm);
     try {
+      if (scene.type == app::SceneType::static_contact)
+        throw std::invalid_argument("Scene type = static contact: plantar sweep needs a humanoid "
+                                    "scene (stand, drop, lean or walk); run it with plantar run");
       if (scene.type != app::SceneType::static_sole)
         app::check_robot(scene); // once, not once per point
       status = app::run_sweep(scene_file, scene, out, jobs, executable);
@@ -297,6 +382,8 @@ int plot(const std::vector<std::string>& args) {
 } // namespace
 
 int main(int argc, char** argv) {
+  main_argc = &argc;
+  main_argv = &argv;
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
     std::cout << main_help;
@@ -320,7 +407,8 @@ int main(int argc, char** argv) {
     std::cerr << "plantar: unknown command '" << command << "'\n" << main_help;
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "plantar: error: " << fem::exception_text(e) << "\n";
+    if (launcher_rank() == 0) // under mpirun: one message, not one per rank
+      std::cerr << "plantar: error: " << fem::exception_text(e) << "\n";
     return 1;
   }
 }

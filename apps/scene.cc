@@ -16,6 +16,7 @@ using dealii::Patterns::Selection;
 
 namespace {
 const ChoiceTable<SceneType> scene_types{{SceneType::static_sole, "static sole"},
+                                         {SceneType::static_contact, "static contact"},
                                          {SceneType::stand, "stand"},
                                          {SceneType::drop, "drop"},
                                          {SceneType::lean, "lean"},
@@ -95,6 +96,8 @@ void Scene::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry(
       "Scene type", to_string(Scene().type), choice_pattern(scene_types),
       "static sole: the sole under a uniform ground reaction (Static load); "
+      "static contact: the sole (hexahedra) under a rigid foot pressed onto the ground with "
+      "Coulomb friction (Static contact), on distributed PETSc (mpirun -np N plantar run); "
       "stand: the robot standing still (bent knees) for Simulation/Duration; "
       "drop: straight legs (or Simulation/Drop posture), released with the lowest contact "
       "point Simulation/Release height above the ground; "
@@ -109,6 +112,9 @@ void Scene::declare(dealii::ParameterHandler& prm) {
   prm.leave_subsection();
   prm.enter_subsection("Static load");
   StaticLoadParameters::declare(prm);
+  prm.leave_subsection();
+  prm.enter_subsection("Static contact");
+  StaticContactParameters::declare(prm);
   prm.leave_subsection();
   prm.enter_subsection("Robot");
   RobotParameters::declare(prm);
@@ -146,6 +152,9 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   prm.leave_subsection();
   prm.enter_subsection("Static load");
   static_load.parse(prm);
+  prm.leave_subsection();
+  prm.enter_subsection("Static contact");
+  static_contact.parse(prm);
   prm.leave_subsection();
   prm.enter_subsection("Robot");
   robot.parse(prm, scene_directory);

@@ -5,6 +5,7 @@
 
 #include "apps/humanoid_parameters.h"
 #include "apps/pad_parameters.h"
+#include "apps/static_contact_parameters.h"
 #include "apps/sweep_parameters.h"
 #include "fem/sole_parameters.h"
 
@@ -47,11 +48,12 @@ struct OutputParameters {
 
 /// Scene type: what a run does.
 enum class SceneType {
-  static_sole, ///< the sole alone under a uniform load (static_sole_job.h)
-  stand,       ///< humanoid scenes (humanoid_simulation.h): standing still,
-  drop,        ///< released above the ground,
-  lean,        ///< waist roll ramp,
-  walk,        ///< the walk of subsection Walking
+  static_sole,    ///< the sole alone under a uniform load (static_sole_job.h)
+  static_contact, ///< the sole on the ground under a rigid foot, distributed (static_contact_job.h)
+  stand,          ///< humanoid scenes (humanoid_simulation.h): standing still,
+  drop,           ///< released above the ground,
+  lean,           ///< waist roll ramp,
+  walk,           ///< the walk of subsection Walking
 };
 /// The scene-file name of @p type ("static sole", "stand", ...).
 const char* to_string(SceneType type);
@@ -62,6 +64,7 @@ struct Scene {
   SoleReductionParameters sole_reduction; ///< subsection Sole, humanoid scenes (fem sole)
   SoleValidityParameters sole_validity;   ///< subsection Sole, humanoid scenes (fem sole)
   StaticLoadParameters static_load;
+  StaticContactParameters static_contact; ///< subsection Static contact
   RobotParameters robot;
   ContactParameters contact;
   ControlParameters control;
