@@ -24,6 +24,14 @@ def summary(directory):
     return values
 
 
+def cell(text):
+    """A setting's value as written short: numbers with %g."""
+    try:
+        return format(float(text), "g")
+    except ValueError:
+        return text
+
+
 def table(sweep_dir):
     with open(os.path.join(sweep_dir, "sweep.csv")) as f:
         rows = list(csv.DictReader(f))
@@ -39,7 +47,7 @@ def table(sweep_dir):
     completed = 0
     for r in rows:
         point = os.path.join(sweep_dir, "points", r["id"])
-        cells = [r[c] for c in setting]
+        cells = [cell(r[c]) for c in setting]
         s = summary(point)
         if r["status"] == "ok":
             completed += 1
