@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -133,7 +134,13 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
   stepper_parameters.solver.sweep_skip = scene_.contact.sweep_skip;
   stepper_parameters.max_contacts = foot_model_->max_contacts() + pads_->max_contacts();
-  stepper_ = std::make_unique<multibody::Stepper>(model_, stepper_parameters);
+  try {
+    terrain_ = contact::make_terrain(scene_.terrain.terrain);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("Terrain (Type = ") +
+                                to_string(scene_.terrain.terrain.type) + "): " + e.what());
+  }
+  stepper_ = std::make_unique<multibody::Stepper>(model_, stepper_parameters, *terrain_);
   stepper_->set_gains(
       multibody::PdGains::Uniform(model_, scene_.control.stiffness, scene_.control.damping));
   foot_model_->attach(*stepper_, model_, sole_frames_, scene_.contact.friction);
@@ -181,6 +188,23 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   v_ref_ = Eigen::VectorXd::Zero(model_.nv);
   q_ref_ = q_;
   reference_at(0.0, q_);
+  if (terrain_->level_height() != std::optional<double>(0.0)) {
+    // The reference stands on z = 0: raise it onto the highest ground under the feet's
+    // contact points at t = 0.
+    multibody::forward_kinematics(model_, data_, q_);
+    double highest = -std::numeric_limits<double>::infinity();
+    for (int foot = 0; foot < 2; ++foot) {
+      const multibody::SE3 sole = multibody::frame_placement(model_, data_, sole_frames_[foot]);
+      const Eigen::Matrix3Xd& points = foot_model_->contact_points();
+      for (int k = 0; k < points.cols(); ++k) {
+        const Eigen::Vector3d x = sole.act_point(points.col(k));
+        highest = std::max(highest, terrain_->height(x.x(), x.y()));
+      }
+    }
+    terrain_lift_ = highest;
+    lift_ += terrain_lift_;
+    reference_at(0.0, q_);
+  }
   q_ref_prev_ = q_;
   foot_model_->set_state(false, q_); // e.g. compensated ankles: the predicted deflection
   lift_ -= initial_lift;             // the planned (reference) base is on the ground

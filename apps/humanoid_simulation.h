@@ -36,6 +36,7 @@
 #include "apps/scene.h"
 #include "apps/time_series.h"
 #include "apps/unconverged_solves.h"
+#include "contact/terrain.h"
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/stepper.h"
@@ -94,6 +95,11 @@ public:
   // Read-only state for output writers (apps/scene_vtk_writer.h).
   double time() const { return step_ * summary_.time_step; } ///< s
   const multibody::Stepper& stepper() const { return *stepper_; }
+  /// The ground (subsection Terrain).
+  const contact::Terrain& terrain() const { return *terrain_; }
+  /// Height (m) by which the reference was raised to stand on the terrain at t = 0: the
+  /// highest ground under the feet's contact points (0 on the default ground z = 0).
+  double terrain_lift() const { return terrain_lift_; }
   /// The feet: their contacts, sole frames and fields.
   const FootModel& foot_model() const { return *foot_model_; }
   /// The deformable pads (possibly none).
@@ -121,6 +127,8 @@ private:
   walking::Humanoid humanoid_;           ///< resolved on model_
   walking::Humanoid reference_humanoid_; ///< resolved on reference_model_
   walking::JointReference reference_;
+  std::unique_ptr<contact::Terrain> terrain_; ///< before stepper_, which refers to it
+  double terrain_lift_ = 0;
   std::unique_ptr<multibody::Stepper> stepper_;
   multibody::Data data_;
   std::unique_ptr<PadSet> pads_;

@@ -112,12 +112,12 @@ void HyperelasticSoleFoot::update(const multibody::Data& data) {
   for (int foot = 0; foot < 2; ++foot) {
     coupling::NonlinearCondensedSole& sole = *soles_[foot];
     const multibody::Frame& frame = model_->frames[sole_frames_[foot]];
-    // Node forces in the sole frame: contact frame (n, t1, t2) = world (z, x, y) -> body -> sole.
+    // Node forces in the sole frame: world -> body -> sole.
     const Eigen::Matrix3d world_to_sole =
         frame.placement.rotation.transpose() * data.oMi[frame.body].rotation.transpose();
     for (int k = 0; k < n_nodes(); ++k) {
-      const Eigen::Vector3d f = node_force(foot, k); // F at the step's end
-      forces_.segment<3>(3 * k) = world_to_sole * Eigen::Vector3d(f[1], f[2], f[0]);
+      const Eigen::Vector3d f = node_force_world(foot, k); // F at the step's end
+      forces_.segment<3>(3 * k) = world_to_sole * f;
     }
     coupling::NonlinearUpdateReport report;
     try {

@@ -1,6 +1,5 @@
 #include "apps/pad_field_writer.h"
 
-#include "contact/ground_frame.h"
 #include "fem/atomic_file.h"
 
 #include <deal.II/fe/fe_values.h>
@@ -87,8 +86,8 @@ void write_pad_fields(const PadFieldMesh& mesh, const coupling::PadState& pad,
   dealii::Vector<double> pressure(n); // (contact_pressure, contact_node flag, 0) per node
   Eigen::VectorXd contact_u(3 * n_c); // mesh frame
   for (int k = 0; k < n_c; ++k) {
-    const Eigen::Vector3d u = contact::ground_to_world(u_contact.segment<3>(3 * k));
-    const Eigen::Vector3d f = contact::ground_to_world(pad.node_force(k)); // at the step's end
+    const Eigen::Vector3d u = pad.node_to_world(k, u_contact.segment<3>(3 * k));
+    const Eigen::Vector3d f = pad.node_to_world(k, pad.node_force(k)); // at the step's end
     contact_u.segment<3>(3 * k) = rotation.transpose() * u;
     for (int d = 0; d < 3; ++d) {
       contact_displacement[dofs[k][d]] = u[d];

@@ -1,7 +1,7 @@
 #include "apps/pad_set.h"
 
 #include "apps/pad_field_writer.h"
-#include "contact/ground_frame.h"
+#include "contact/terrain.h"
 #include "coupling/contact_frame_compliance.h"
 #include "fem/field_output.h"
 #include "fem/material_table.h"
@@ -124,6 +124,7 @@ double PadSet::lowest_point(const multibody::Data& data) const {
 void PadSet::attach(multibody::Stepper& stepper) {
   if (static_cast<int>(bodies_.size()) != size())
     throw std::logic_error("PadSet::attach before resolve");
+  terrain_ = &stepper.terrain();
   states_.clear();
   for (int i = 0; i < size(); ++i) {
     const double friction = entries_[i].description.friction;
@@ -179,10 +180,10 @@ void PadSet::report(int i, const multibody::Data& data, PadReport& out) const {
   out.compression = 0;
   const Eigen::VectorXd& u = state.displacement();
   for (int k = 0; k < state.n_nodes(); ++k) {
-    out.force += contact::ground_to_world(state.node_force(k));
-    const Eigen::Vector3d displacement = contact::ground_to_world(u.segment<3>(3 * k));
+    out.force += state.node_to_world(k, state.node_force(k));
+    const Eigen::Vector3d displacement = state.node_to_world(k, u.segment<3>(3 * k));
     const Eigen::Vector3d x = data.oMi[bodies_[i]].act_point(body_nodes_[i].col(k));
-    out.depth = std::max(out.depth, -(x.z() + displacement.z()));
+    out.depth = std::max(out.depth, -contact::terrain_gap(*terrain_, x + displacement));
     out.compression = std::max(out.compression, displacement.dot(inward));
   }
 }

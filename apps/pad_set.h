@@ -8,6 +8,7 @@
 // the linear model's validity; output writers ask for each pad's .vtu (apps/pad_field_writer.h).
 
 #include "apps/pad_parameters.h"
+#include "contact/terrain.h"
 #include "coupling/deformable_pad.h"
 #include "coupling/pad_state.h"
 #include "coupling/viscoelastic_pad.h"
@@ -93,10 +94,11 @@ private:
   std::vector<double> thickness_;                                        ///< m
   std::vector<Eigen::Matrix3Xd> link_nodes_; ///< contact nodes in link coordinates (3 x n), m
   std::vector<std::unique_ptr<coupling::PadState>> states_;
-  std::vector<int> bodies_;                  ///< the body carrying each pad
-  std::vector<multibody::SE3> link_in_body_; ///< each pad's link frame -> body frame
-  std::vector<Eigen::Matrix3Xd> body_nodes_; ///< contact nodes in body coordinates (3 x n), m
-  std::vector<Eigen::VectorXd> areas_;       ///< consistent node areas (m^2), for the .vtu
+  std::vector<int> bodies_;                   ///< the body carrying each pad
+  std::vector<multibody::SE3> link_in_body_;  ///< each pad's link frame -> body frame
+  std::vector<Eigen::Matrix3Xd> body_nodes_;  ///< contact nodes in body coordinates (3 x n), m
+  std::vector<Eigen::VectorXd> areas_;        ///< consistent node areas (m^2), for the .vtu
+  const contact::Terrain* terrain_ = nullptr; ///< the stepper's ground (attach)
 };
 
 } // namespace plantar::app

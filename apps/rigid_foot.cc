@@ -1,6 +1,7 @@
 #include "apps/rigid_foot.h"
 
 #include "apps/scene.h"
+#include "contact/terrain.h"
 #include "multibody/stepper.h"
 
 namespace plantar::app {
@@ -30,12 +31,12 @@ void RigidFoot::report(int foot, const multibody::Data& data, double dt, FootRep
   out.depth = 0;
   for (const Point& c : feet_[foot]) {
     const Eigen::Vector3d p = stepper_->point_impulse(c.index) / dt; // the step's impulse / dt
-    const Eigen::Vector3d f(p[1], p[2], p[0]);                       // (n, t1, t2) -> (x, y, z)
+    const Eigen::Vector3d f = stepper_->point_frame(c.index) * p;    // (n, t1, t2) -> world
     const Eigen::Vector3d x = data.oMi[c.body].act_point(c.position);
     out.force += f;
     out.moment.x() += f.z() * x.x();
     out.moment.y() += f.z() * x.y();
-    out.depth = std::max(out.depth, -x.z());
+    out.depth = std::max(out.depth, -contact::terrain_gap(stepper_->terrain(), x));
   }
 }
 

@@ -135,6 +135,9 @@ void Scene::declare(dealii::ParameterHandler& prm) {
   SimulationParameters::declare(prm);
   prm.leave_subsection();
   PadParameters::declare(prm);
+  prm.enter_subsection("Terrain");
+  TerrainSceneParameters::declare(prm);
+  prm.leave_subsection();
   prm.enter_subsection("Output");
   OutputParameters::declare(prm);
   prm.leave_subsection();
@@ -175,6 +178,9 @@ void Scene::parse(dealii::ParameterHandler& prm, const std::filesystem::path& sc
   simulation.parse(prm);
   prm.leave_subsection();
   pads.parse(prm, scene_directory);
+  prm.enter_subsection("Terrain");
+  terrain.parse(prm, scene_directory);
+  prm.leave_subsection();
   prm.enter_subsection("Output");
   output.parse(prm);
   prm.leave_subsection();

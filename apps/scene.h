@@ -7,6 +7,7 @@
 #include "apps/pad_parameters.h"
 #include "apps/static_contact_parameters.h"
 #include "apps/sweep_parameters.h"
+#include "apps/terrain_parameters.h"
 #include "fem/sole_parameters.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -71,7 +72,8 @@ struct Scene {
   WalkingSceneParameters walking;
   LeanSceneParameters lean;
   SimulationParameters simulation;
-  PadParameters pads; ///< subsections Pad 1 ... Pad 6, humanoid scenes
+  PadParameters pads;             ///< subsections Pad 1 ... Pad 6, humanoid scenes
+  TerrainSceneParameters terrain; ///< subsection Terrain, humanoid scenes
   OutputParameters output;
   SweepParameters sweep; ///< plantar sweep only
 

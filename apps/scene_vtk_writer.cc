@@ -1,10 +1,15 @@
 #include "apps/scene_vtk_writer.h"
 
+#include "contact/rough_terrain.h"
+#include "contact/terrain.h"
 #include "fem/atomic_file.h"
 #include "multibody/kinematics.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iomanip>
+#include <optional>
 
 namespace plantar::app {
 namespace {
@@ -29,6 +34,60 @@ SceneVtkWriter::SceneVtkWriter(const HumanoidSimulation& simulation,
   for (int i = 0; i < simulation.pads().size(); ++i)
     pads_.push_back("pad_" + simulation.pads().name(i));
   std::filesystem::create_directories(directory_ / "vtk");
+  has_terrain_ = simulation.terrain().level_height() != std::optional<double>(0.0);
+  if (has_terrain_)
+    write_terrain(simulation);
+}
+
+void SceneVtkWriter::write_terrain(const HumanoidSimulation& simulation) const {
+  // The extent: the soles at t = 0 and planned at the end, +- 0.5 m.
+  multibody::Data data(simulation.model());
+  multibody::forward_kinematics(simulation.model(), data, simulation.q());
+  const FootModel& feet = simulation.foot_model();
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(1e300), high = -low;
+  for (int foot = 0; foot < 2; ++foot) {
+    const Eigen::Vector3d start =
+        multibody::frame_placement(simulation.model(), data, feet.sole_frame(foot)).translation;
+    const Eigen::Vector3d end = foot == 0 ? simulation.summary().planned_right_sole
+                                          : simulation.summary().planned_left_sole;
+    low = low.cwiseMin(start.head<2>()).cwiseMin(end.head<2>());
+    high = high.cwiseMax(start.head<2>()).cwiseMax(end.head<2>());
+  }
+  low.array() -= 0.5;
+  high.array() += 0.5;
+  const contact::Terrain& terrain = simulation.terrain();
+  double spacing = 0.005;
+  if (const auto* rough = dynamic_cast<const contact::RoughTerrain*>(&terrain))
+    spacing = std::min(spacing, 2.0 * rough->spacing()); // l/4
+  const int nx = static_cast<int>(std::ceil((high.x() - low.x()) / spacing)) + 1;
+  const int ny = static_cast<int>(std::ceil((high.y() - low.y()) / spacing)) + 1;
+  fem::write_file_atomically(directory_ / terrain_file, [&](std::ostream& out) {
+    out << std::setprecision(9) << "<?xml version=\"1.0\"?>\n"
+        << "<VTKFile type=\"StructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        << "<StructuredGrid WholeExtent=\"0 " << nx - 1 << " 0 " << ny - 1 << " 0 0\">\n"
+        << "<Piece Extent=\"0 " << nx - 1 << " 0 " << ny - 1 << " 0 0\">\n"
+        << "<PointData Scalars=\"height\" Normals=\"normal\">\n"
+        << "<DataArray type=\"Float64\" Name=\"height\" format=\"ascii\">\n";
+    auto x_of = [&](int i) { return low.x() + i * spacing; };
+    auto y_of = [&](int j) { return low.y() + j * spacing; };
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        out << terrain.height(x_of(i), y_of(j)) << "\n";
+    out << "</DataArray>\n"
+        << "<DataArray type=\"Float64\" Name=\"normal\" NumberOfComponents=\"3\" "
+           "format=\"ascii\">\n";
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Eigen::Vector3d n = contact::terrain_normal(terrain.gradient(x_of(i), y_of(j)));
+        out << n.x() << " " << n.y() << " " << n.z() << "\n";
+      }
+    out << "</DataArray>\n</PointData>\n<Points>\n"
+        << "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        out << x_of(i) << " " << y_of(j) << " " << terrain.height(x_of(i), y_of(j)) << "\n";
+    out << "</DataArray>\n</Points>\n</Piece>\n</StructuredGrid>\n</VTKFile>\n";
+  });
 }
 
 SceneVtkWriter::~SceneVtkWriter() = default;
@@ -51,15 +110,20 @@ void SceneVtkWriter::write(const HumanoidSimulation& simulation) {
 }
 
 void SceneVtkWriter::write_pvd() const {
-  auto write = [&](const std::string& name, const std::vector<std::string>& stems) {
+  auto write = [&](const std::string& name, const std::vector<std::string>& stems,
+                   bool with_terrain) {
     fem::write_file_atomically(directory_ / name, [&](std::ostream& out) {
       out << std::setprecision(10)
           << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
           << "<Collection>\n";
-      for (std::size_t i = 0; i < times_.size(); ++i)
+      for (std::size_t i = 0; i < times_.size(); ++i) {
         for (std::size_t part = 0; part < stems.size(); ++part)
           out << "<DataSet timestep=\"" << times_[i] << "\" part=\"" << part << "\" file=\""
               << frame_name(stems[part], static_cast<int>(i)) << "\"/>\n";
+        if (with_terrain) // scene.pvd: the terrain, the same file at every time
+          out << "<DataSet timestep=\"" << times_[i] << "\" part=\"" << stems.size() << "\" file=\""
+              << terrain_file << "\"/>\n";
+      }
       out << "</Collection>\n</VTKFile>\n";
     });
   };
@@ -69,8 +133,8 @@ void SceneVtkWriter::write_pvd() const {
       all.push_back(std::string("sole_") + foot);
   all.insert(all.end(), pads_.begin(), pads_.end());
   for (const std::string& part : all)
-    write(part + ".pvd", {part});
-  write("scene.pvd", all);
+    write(part + ".pvd", {part}, false);
+  write("scene.pvd", all, has_terrain_);
 }
 
 } // namespace plantar::app

@@ -23,8 +23,14 @@
 //     Cauchy stress of the hyperelastic law (sole frame).
 // <directory>/vtk/pad_<name>_NNNNNN.vtu   each deformable pad (Pad 1 ... Pad 6, apps/pad_set.h):
 //     the same arrays as a linear sole, the pad frame at its place on its link
+// <directory>/terrain.vts   the ground (subsection Terrain, contact/terrain.h) unless it is the
+//     default plane z = 0, written once: a
+//     structured grid of the terrain surface z = h(x, y) over the feet's initial and planned
+//     final positions +- 0.5 m (spacing 5 mm, or l/4 of a rough surface if smaller), with point
+//     data height (m) and normal (the unit normal n)
 // <directory>/{links,sole_right,sole_left,pad_<name>}.pvd   one time series each
-// <directory>/scene.pvd      all parts (0 links, then right and left sole, then the pads)
+// <directory>/scene.pvd      all parts (0 links, then right and left sole, then the pads, then
+//     the terrain: the same file at every time)
 // The .pvd files are rewritten (atomically) at every frame: a run that fails keeps a
 // readable series of the frames written so far. Frames allocate (output steps only).
 
@@ -50,15 +56,20 @@ public:
 
   /// Writes the frame of @p simulation's current state (time simulation.time()).
   void write(const HumanoidSimulation& simulation);
+  /// The terrain surface's grid file, relative to the directory.
+  static constexpr const char* terrain_file = "terrain.vts";
   int n_frames() const { return static_cast<int>(times_.size()); }
 
 private:
   void write_pvd() const;
+  /// terrain.vts (atomically) over the feet of @p simulation at t = 0 and planned at the end.
+  void write_terrain(const HumanoidSimulation& simulation) const;
 
   std::filesystem::path directory_;
   std::vector<LinkShape> shapes_;
   multibody::Data data_;
   bool has_soles_ = false;        ///< the foot model writes sole fields
+  bool has_terrain_ = false;      ///< terrain.vts written (not the default ground z = 0)
   std::vector<std::string> pads_; ///< "pad_<name>" per pad
   std::vector<double> times_;
 };

@@ -1,7 +1,7 @@
 #include "apps/sole_patch_foot.h"
 
 #include "apps/pad_field_writer.h"
-#include "contact/ground_frame.h"
+#include "contact/terrain.h"
 #include "coupling/contact_frame_compliance.h"
 #include "coupling/pad_state.h"
 #include "fem/mesh_generator.h"
@@ -72,7 +72,7 @@ void SolePatchFoot::node_deformation(int foot, const multibody::Data& data, doub
   compression = 0;
   displacement = 0;
   for (int k = 0; k < n_nodes(); ++k) {
-    const Eigen::Vector3d u_k = contact::ground_to_world(u.segment<3>(3 * k));
+    const Eigen::Vector3d u_k = pads_[foot]->node_to_world(k, u.segment<3>(3 * k));
     if (!u_k.allFinite()) { // the monitor treats NaN as past every limit
       compression = displacement = std::numeric_limits<double>::quiet_NaN();
       return;
@@ -84,6 +84,10 @@ void SolePatchFoot::node_deformation(int foot, const multibody::Data& data, doub
 
 Eigen::Vector3d SolePatchFoot::node_force(int foot, int node) const {
   return pads_[foot]->node_force(node);
+}
+
+Eigen::Vector3d SolePatchFoot::node_force_world(int foot, int node) const {
+  return pads_[foot]->node_to_world(node, pads_[foot]->node_force(node));
 }
 
 void SolePatchFoot::set_patch_compliance(int foot, const Eigen::MatrixXd& compliance,
@@ -100,14 +104,15 @@ void SolePatchFoot::report(int foot, const multibody::Data& data, double dt,
   const coupling::PadState& pad = *pads_[foot];
   for (int k = 0; k < n_nodes(); ++k) {
     const Node& c = feet_[foot][k];
-    const Eigen::Vector3d f = contact::ground_to_world(pad.node_force(k));
+    const Eigen::Vector3d f = pad.node_to_world(k, pad.node_force(k));
     const Eigen::Vector3d x = data.oMi[c.body].act_point(c.position);
     out.force += f;
     out.moment.x() += f.z() * x.x();
     out.moment.y() += f.z() * x.y();
-    double z = x.z();
-    z += pad.displacement()[3 * k];
-    out.depth = std::max(out.depth, -z);
+    // The deformed node's gap: the terrain's gap of the undeformed node plus U_n.
+    double gap = contact::terrain_gap(stepper_->terrain(), x);
+    gap += pad.displacement()[3 * k];
+    out.depth = std::max(out.depth, -gap);
   }
 }
 

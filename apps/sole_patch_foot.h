@@ -49,8 +49,11 @@ protected:
   int n_nodes() const { return static_cast<int>(nodes_.cols()); }
   /// The stepper's pad state of foot @p foot (valid after attach).
   coupling::PadState& pad_state(int foot) { return *pads_[foot]; }
-  /// Force on node @p node of foot @p foot at the step's end, (n, t1, t2) = world (z, x, y), N.
+  /// Force on node @p node of foot @p foot at the step's end, in the node's contact frame
+  /// (n, t1, t2) (on flat ground world (z, x, y)), N.
   Eigen::Vector3d node_force(int foot, int node) const;
+  /// The same force in world components, N.
+  Eigen::Vector3d node_force_world(int foot, int node) const;
   /// Largest compression u_k . n (m; n: the sole's normal into the foot) and largest |u_k|
   /// (m) over the contact nodes of foot @p foot after the step (@p data: its kinematics).
   /// No heap allocation.

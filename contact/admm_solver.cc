@@ -121,14 +121,14 @@ bool AdmmSolver::factorize(const ContactProblem& problem, const DelassusProducts
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
     if (size == 0)
       continue;
-    // D_j^-1 = (I (x) R) (C + c I)^-1 (I (x) R)^T (R orthonormal).
+    // D_j^-1 = A (C + c I)^-1 A^T (A = blockdiag(a_i) orthonormal).
     auto factor = patch_factor_.block(first, first, size, size);
     for (int c = 0; c < m; ++c) {
       auto column = low_rank_.col(c).segment(first, size);
-      rotate_to_patch(patch.rotation, column);
+      rotate_to_patch(patch, column);
       factor.triangularView<Eigen::Lower>().solveInPlace(column);
       factor.triangularView<Eigen::Lower>().transpose().solveInPlace(column);
-      rotate_from_patch(patch.rotation, column);
+      rotate_from_patch(patch, column);
     }
   }
   // S = I + G^T H, Cholesky in place.
@@ -162,10 +162,10 @@ void AdmmSolver::solve_shifted(const ContactProblem& problem, const DelassusProd
       continue;
     auto factor = patch_factor_.block(first, first, size, size);
     auto segment = x.segment(first, size);
-    rotate_to_patch(patch.rotation, segment);
+    rotate_to_patch(patch, segment);
     factor.triangularView<Eigen::Lower>().solveInPlace(segment);
     factor.triangularView<Eigen::Lower>().transpose().solveInPlace(segment);
-    rotate_from_patch(patch.rotation, segment);
+    rotate_from_patch(patch, segment);
   }
   if (m == 0)
     return;

@@ -53,10 +53,10 @@ void patch_displacement(const CompliantPatch& patch,
   u.setZero();
   for (int j = 0; j < size; j += 3) {
     const Eigen::Vector3d p_patch =
-        patch.rotation.transpose() * impulses.segment<3>(3 * patch.first_contact + j);
+        patch.node_rotation(j / 3).transpose() * impulses.segment<3>(3 * patch.first_contact + j);
     u.noalias() += patch.compliance_over_dt.middleCols<3>(j) * p_patch;
   }
-  rotate_from_patch(patch.rotation, u);
+  rotate_from_patch(patch, u);
   u *= dt;
 }
 

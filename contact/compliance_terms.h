@@ -24,7 +24,7 @@ namespace plantar::contact {
 
 /// Sets patch.compliance_over_dt = C / dt^2 (allocates only if the size changes).
 /// @param compliance C, (3 n x 3 n) with n = patch.n_contacts, m/N, patch frame
-/// (patch.rotation maps it to the contact frames).
+/// (patch.node_rotation(i) maps node i's rows to its contact frame).
 /// @param dt time step, s, > 0. Throws std::invalid_argument on size or dt.
 void set_patch_compliance(CompliantPatch& patch,
                           const Eigen::Ref<const Eigen::MatrixXd>& compliance, double dt);
@@ -35,7 +35,7 @@ void add_deformation_rate_term(const CompliantPatch& patch,
                                const Eigen::Ref<const Eigen::VectorXd>& previous_displacement,
                                double dt, ContactProblem& problem);
 
-/// U_c^t = dt (I (x) R) (C/dt^2) (I (x) R)^T p for the patch's contacts: the node displacements (m)
+/// U_c^t = dt A (C/dt^2) A^T p (A = blockdiag(a_i), CompliantPatch::node_rotation) for the patch's contacts: the node displacements (m)
 /// after a solve, to pass as U_prev at the next step.
 /// @param impulses all impulses of the problem (>= 3 n_contacts), N s.
 /// @param displacement (3 patch.n_contacts), m. Does not allocate.

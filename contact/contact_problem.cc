@@ -27,6 +27,28 @@ void rotate_from_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::Vector
   }
 }
 
+void rotate_to_patch(const CompliantPatch& patch, Eigen::Ref<Eigen::VectorXd> x) {
+  if (!patch.per_node_rotations) {
+    rotate_to_patch(patch.rotation, x);
+    return;
+  }
+  for (Eigen::Index i = 0; i + 2 < x.size(); i += 3) {
+    const Eigen::Vector3d y = patch.node_rotations.middleCols<3>(i).transpose() * x.segment<3>(i);
+    x.segment<3>(i) = y;
+  }
+}
+
+void rotate_from_patch(const CompliantPatch& patch, Eigen::Ref<Eigen::VectorXd> x) {
+  if (!patch.per_node_rotations) {
+    rotate_from_patch(patch.rotation, x);
+    return;
+  }
+  for (Eigen::Index i = 0; i + 2 < x.size(); i += 3) {
+    const Eigen::Vector3d y = patch.node_rotations.middleCols<3>(i) * x.segment<3>(i);
+    x.segment<3>(i) = y;
+  }
+}
+
 void ContactProblem::validate(bool check_matrices) const {
   const int n_max = max_contacts();
   if (n_contacts < 0 || n_contacts > n_max)
@@ -78,6 +100,20 @@ void ContactProblem::validate(bool check_matrices) const {
     if (!(orthogonality <= 1e-10))
       fail(name + ".rotation is not orthonormal (max |R^T R - I| = " +
            std::to_string(orthogonality) + ", allowed <= 1e-10)");
+    if (patch.per_node_rotations) {
+      if (patch.node_rotations.cols() < 3 * patch.n_contacts)
+        fail(name + ".node_rotations has " + std::to_string(patch.node_rotations.cols()) +
+             " columns, expected >= 3 n_contacts = " + std::to_string(3 * patch.n_contacts));
+      for (int i = 0; i < patch.n_contacts; ++i) {
+        const Eigen::Matrix3d a = patch.node_rotation(i);
+        const double error =
+            (a.transpose() * a - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+        if (!(error <= 1e-10))
+          fail(name + ".node_rotations block " + std::to_string(i) +
+               " is not orthonormal (max |a^T a - I| = " + std::to_string(error) +
+               ", allowed <= 1e-10)");
+      }
+    }
     if (patch.warm_product_valid && patch.warm_product.size() < 3 * patch.n_contacts)
       fail(name + ".warm_product has " + std::to_string(patch.warm_product.size()) +
            " entries, expected >= " + std::to_string(3 * patch.n_contacts));
@@ -101,9 +137,10 @@ Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
     block += general.diagonal_block(contact);
   for (const CompliantPatch& patch : patches) {
     const int local = contact - patch.first_contact;
-    if (local >= 0 && local < patch.n_contacts)
-      block += patch.rotation * patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local) *
-               patch.rotation.transpose();
+    if (local >= 0 && local < patch.n_contacts) {
+      const Eigen::Matrix3d a = patch.node_rotation(local);
+      block += a * patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local) * a.transpose();
+    }
   }
   return block;
 }
@@ -144,10 +181,11 @@ void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
     auto segment = out.segment(first, size);
     for (int j = 0; j < size; j += 3) {
-      const Eigen::Vector3d p_patch = patch.rotation.transpose() * p.segment<3>(first + j);
+      const Eigen::Vector3d p_patch =
+          patch.node_rotation(j / 3).transpose() * p.segment<3>(first + j);
       segment.noalias() += patch.compliance_over_dt.middleCols<3>(j) * p_patch;
     }
-    rotate_from_patch(patch.rotation, segment);
+    rotate_from_patch(patch, segment);
   }
   out.head(n3).noalias() += g * rigid_work.head(m);
   if (!general.empty())
@@ -184,11 +222,13 @@ void ContactProblem::assemble_delassus_into(Eigen::Ref<Eigen::MatrixXd> out,
     general.add_to_dense(delassus, symmetric_part);
   for (const CompliantPatch& patch : patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
-    for (int i = 0; i < size; i += 3)
+    for (int i = 0; i < size; i += 3) {
+      const Eigen::Matrix3d a_i = patch.node_rotation(i / 3);
       for (int j = 0; j < size; j += 3)
-        delassus.block<3, 3>(first + i, first + j) += patch.rotation *
+        delassus.block<3, 3>(first + i, first + j) += a_i *
                                                       patch.compliance_over_dt.block<3, 3>(i, j) *
-                                                      patch.rotation.transpose();
+                                                      patch.node_rotation(j / 3).transpose();
+    }
   }
 }
 

@@ -11,8 +11,8 @@
 //   G (3n x m): the rigid part, J M^-1 J^T = G G^T with G = J L^-T, M = L L^T,
 //               so W_rigid is applied through its low rank m (<= n_v).
 //   C_j       : dense compliance of a compliant patch (a condensed sole,
-//               m/N), (I (x) R_j) C_j,patch (I (x) R_j)^T with the block kept
-//               in the patch's frame (CompliantPatch::rotation). The paper's
+//               m/N), A_j C_j,patch A_j^T with the block kept in the patch's
+//               frame, A_j = blockdiag(a_i) (CompliantPatch::node_rotation). The paper's
 //               eq. 12 is written for forces F: (W_F + C/dt) F with
 //               W_F = dt J M^-1 J^T. With impulses p = F dt the same block is
 //               C/dt^2 (theta = 1; the stepper's theta method fills a C/(theta dt)^2:
@@ -47,9 +47,11 @@ namespace plantar::contact {
 ///
 /// The block is held in the patch's own frame (e.g. the frame of the foot that
 /// carries the sole), so that it stays constant while the body rotates:
-///   W_patch = (I (x) R) compliance_over_dt (I (x) R)^T,
-/// R (3x3, orthonormal) mapping patch-frame components to contact-frame
-/// components, the same for every contact of the patch.
+///   W_patch = A compliance_over_dt A^T,  A = blockdiag(a_0, ..., a_{n-1}),
+/// a_i (3x3, orthonormal) mapping patch-frame components to the contact frame of
+/// contact i: a_i = rotation for every i (flat ground, one frame: A = I (x) R), or
+/// the i-th 3 x 3 block of node_rotations when per_node_rotations (uneven ground,
+/// contact/terrain.h: a_i = R_c,i^T R_body).
 struct CompliantPatch {
   int first_contact = 0;
   int n_contacts = 0;
@@ -62,6 +64,14 @@ struct CompliantPatch {
   /// R: contact frame <- patch frame (orthonormal; identity: the block is
   /// already in the contact frames).
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  /// a_i of every contact (3 x 3 n_contacts, a_i in columns 3i..3i+2), used instead of
+  /// rotation when per_node_rotations. Sized before the time loop (its owner keeps the size).
+  Eigen::Matrix3Xd node_rotations;
+  bool per_node_rotations = false;
+  /// a_i of contact @p node of the patch (0 <= node < n_contacts).
+  Eigen::Matrix3d node_rotation(int node) const {
+    return per_node_rotations ? Eigen::Matrix3d(node_rotations.middleCols<3>(3 * node)) : rotation;
+  }
   /// Optional warm-start product (3 n_contacts, m/s, patch frame):
   /// compliance_over_dt (I (x) R)^T p0 for the impulses p0 the solver starts
   /// from. Used by the Gauss-Seidel solver instead of the product (one pass
@@ -75,6 +85,11 @@ struct CompliantPatch {
 void rotate_to_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::VectorXd> x);
 /// x (3 n) <- (I (x) R) x: patch-frame vectors to the contact frames.
 void rotate_from_patch(const Eigen::Matrix3d& rotation, Eigen::Ref<Eigen::VectorXd> x);
+/// x (3 n, n <= patch.n_contacts, node-major from the patch's first contact) <- A^T x with
+/// A = blockdiag(a_i) of @p patch: contact frames to the patch frame.
+void rotate_to_patch(const CompliantPatch& patch, Eigen::Ref<Eigen::VectorXd> x);
+/// x <- A x: the patch frame to the contact frames.
+void rotate_from_patch(const CompliantPatch& patch, Eigen::Ref<Eigen::VectorXd> x);
 
 struct ContactProblem {
   /// Allocates storage for up to @p max_contacts contacts and a rigid factor
@@ -98,14 +113,14 @@ struct ContactProblem {
   /// SolverStatus::non_finite instead). Does not allocate.
   void validate(bool check_matrices = true) const;
 
-  /// W_kk (3x3): diagonal block of contact k, G_k G_k^T + R C_kk R^T.
+  /// W_kk (3x3): diagonal block of contact k, G_k G_k^T + a_k C_kk a_k^T.
   Eigen::Matrix3d diagonal_block(int contact) const;
   /// trace(W_kk) = ||G_k||_F^2 + trace(C_j,kk/dt^2) of every contact (the rotation drops
   /// out), (m/s)/(N s), into @p traces (size >= n_contacts). One pass over G. Does not allocate.
   void diagonal_traces(Eigen::Ref<Eigen::VectorXd> traces) const;
 
   /// out = W p for the leading 3 n_contacts rows, applying G G^T through its
-  /// low rank: out = G (G^T p) + blockdiag((I (x) R_j) C_j/dt^2 (I (x) R_j)^T) p.
+  /// low rank: out = G (G^T p) + blockdiag(A_j C_j/dt^2 A_j^T) p.
   /// @param p (3 n_contacts) impulses, N s.
   /// @param rigid_work (>= max(m, 3 n_contacts)) scratch.
   /// @param out (3 n_contacts) velocities, m/s. Does not allocate.

@@ -6,8 +6,8 @@
 //   deactivate()                       when no node can touch, else
 //   activate() ... add_rate_terms()    when its block enters the problem, then after the solve
 //   finish_step()                      always (the step's node impulses, the new state).
-// Vectors are node-major, 3 per node, in the contact frames (n, t1, t2) of contact/ground_frame.h
-// unless stated.
+// Vectors are node-major, 3 per node, in the contact frames (n, t1, t2) of the nodes (on flat
+// ground contact/ground_frame.h's, on a terrain each node's of contact/terrain.h) unless stated.
 
 #include "contact/contact_problem.h"
 #include "contact/contact_solver.h"
@@ -39,10 +39,14 @@ public:
   /// with no contacts) and the massless patch relaxes.
   virtual void deactivate(int first_contact) = 0;
   /// The block enters the problem at contacts [first_contact, first_contact + n); @p rotation
-  /// a = R_c^T R_body (contact frame <- body frame) of this step. Writes the warm start of the
-  /// nodes' impulses (n vectors, N s) to @p warm_start when it has one (else leaves them).
+  /// a = R_g^T R_body (contact frame <- body frame) of this step, R_g the flat ground's frame
+  /// (contact/ground_frame.h). @p node_frames: nullptr when every node's contact frame is R_g
+  /// (flat ground), else the n frames R_c,i of the nodes (world <- contact, contact/terrain.h),
+  /// and node i's block rotation is a_i = R_c,i^T R_body = R_c,i^T R_g a. Writes the warm start
+  /// of the nodes' impulses (n vectors, N s) to @p warm_start when it has one (else leaves
+  /// them).
   virtual void activate(int first_contact, const Eigen::Matrix3d& rotation,
-                        Eigen::Vector3d* warm_start) = 0;
+                        const Eigen::Matrix3d* node_frames, Eigen::Vector3d* warm_start) = 0;
   /// Adds the deformation-rate (and offset) terms of eq. 12 to the problem's free velocity of
   /// its rows; after the stepper has filled them.
   virtual void add_rate_terms() = 0;

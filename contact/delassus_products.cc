@@ -54,7 +54,8 @@ void DelassusProducts::compute_patch_product(const CompliantPatch& patch,
   auto out = patch_product.segment(first, size);
   out.setZero();
   for (int j = 0; j < size; j += 3) {
-    const Eigen::Vector3d p_patch = patch.rotation.transpose() * p.segment<3>(first + j);
+    const Eigen::Vector3d p_patch =
+        patch.node_rotation(j / 3).transpose() * p.segment<3>(first + j);
     add_three_columns(patch.compliance_over_dt.col(j).data(),
                       patch.compliance_over_dt.outerStride(), size, p_patch.data(), out.data());
   }
@@ -64,7 +65,8 @@ void DelassusProducts::add_patch_velocities(const ContactProblem& problem) {
   for (const CompliantPatch& patch : problem.patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
     for (int i = first; i < first + size; i += 3)
-      velocity.segment<3>(i).noalias() += patch.rotation * patch_product.segment<3>(i);
+      velocity.segment<3>(i).noalias() +=
+          patch.node_rotation((i - first) / 3) * patch_product.segment<3>(i);
   }
 }
 

@@ -20,10 +20,10 @@ struct DelassusProducts {
                   const Eigen::Ref<const Eigen::VectorXd>& v);
   /// velocity = W p + v_free (rigid = G^T p on the way).
   void compute_velocity(const ContactProblem& problem, const Eigen::Ref<const Eigen::VectorXd>& p);
-  /// patch_product[patch rows] = C (I (x) R)^T p (one pass over the block).
+  /// patch_product[patch rows] = C A^T p, A = blockdiag(a_i) (one pass over the block).
   void compute_patch_product(const CompliantPatch& patch,
                              const Eigen::Ref<const Eigen::VectorXd>& p);
-  /// velocity[patch rows] += (I (x) R) patch_product[patch rows], every patch.
+  /// velocity[patch rows] += A patch_product[patch rows], every patch.
   void add_patch_velocities(const ContactProblem& problem);
 
   // Scales of W (prepare()).
@@ -34,7 +34,7 @@ struct DelassusProducts {
   // Products of the current impulses p.
   Eigen::VectorXd velocity;      // 3N, W p + v_free, m/s
   Eigen::VectorXd rigid;         // m, y = G^T p
-  Eigen::VectorXd patch_product; // 3N, C_j/dt^2 (I (x) R_j)^T p per patch, patch frames, m/s
+  Eigen::VectorXd patch_product; // 3N, C_j/dt^2 A_j^T p per patch, patch frames, m/s
   // The cone projection's change of the caller's warm start (3N; NaN for a non-finite
   // impulse): corrects CompliantPatch::warm_product, the product of the unprojected impulses.
   Eigen::VectorXd warm_change;

@@ -50,7 +50,8 @@ void GaussSeidelSolver::start_iteration(const ContactProblem& problem,
           break;
         }
         if (change.squaredNorm() > 0.0) {
-          const Eigen::Vector3d change_patch = patch.rotation.transpose() * change;
+          const Eigen::Vector3d change_patch =
+              patch.node_rotation((i - first) / 3).transpose() * change;
           add_three_columns(patch.compliance_over_dt.col(i - first).data(),
                             patch.compliance_over_dt.outerStride(), size, change_patch.data(),
                             products.patch_product.data() + first);
@@ -135,7 +136,8 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
         const int j = products.patch_of[k];
         Eigen::Vector3d v_k = problem.free_velocity.segment<3>(3 * k);
         if (j >= 0)
-          v_k.noalias() += problem.patches[j].rotation * products.patch_product.segment<3>(3 * k);
+          v_k.noalias() += problem.patches[j].node_rotation(k - problem.patches[j].first_contact) *
+                           products.patch_product.segment<3>(3 * k);
         for (int c = 0; c < m; ++c) { // G_k y
           const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
           const double y_c = products.rigid[c];

@@ -8,6 +8,13 @@
 
 namespace plantar::contact {
 
+/// R_c (3 x 3): contact components (n, t1, t2) -> world components.
+inline Eigen::Matrix3d ground_frame() {
+  Eigen::Matrix3d r;
+  r << 0, 1, 0, 0, 0, 1, 1, 0, 0;
+  return r;
+}
+
 /// R_c^T (3 x 3): world components -> contact components (n, t1, t2).
 inline Eigen::Matrix3d ground_frame_transpose() {
   Eigen::Matrix3d rt;

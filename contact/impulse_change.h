@@ -9,7 +9,7 @@
 namespace plantar::contact {
 
 /// y += G_k^T dp (@p rigid_work, m) and, when contact @p k lies on @p patch (else nullptr),
-/// w += C_j (R_j^T dp) over the patch's three columns of k (@p patch_velocity, 3 n_contacts of
+/// w += C_j (a_k^T dp) over the patch's three columns of k (@p patch_velocity, 3 n_contacts of
 /// the solver, patch frames, m/s). @p delta: dp (3, contact frame), N s. O(m + 3 n_j).
 inline void add_impulse_change(const ContactProblem& problem, const CompliantPatch* patch, int k,
                                const Eigen::Vector3d& delta, double* rigid_work,
@@ -20,7 +20,8 @@ inline void add_impulse_change(const ContactProblem& problem, const CompliantPat
   }
   if (patch == nullptr)
     return;
-  const Eigen::Vector3d delta_patch = patch->rotation.transpose() * delta;
+  const Eigen::Vector3d delta_patch =
+      patch->node_rotation(k - patch->first_contact).transpose() * delta;
   add_three_columns(patch->compliance_over_dt.col(3 * (k - patch->first_contact)).data(),
                     patch->compliance_over_dt.outerStride(), 3 * patch->n_contacts,
                     delta_patch.data(), patch_velocity + 3 * patch->first_contact);

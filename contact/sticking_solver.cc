@@ -269,7 +269,7 @@ SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSe
       const int k = patch.first_contact + node;
       if (sliding_[k]) {
         add_lever_transposed(structure.lever, node,
-                             patch.rotation.transpose() * impulses.segment<3>(3 * k), t);
+                             patch.node_rotation(node).transpose() * impulses.segment<3>(3 * k), t);
         any = true;
       }
     }
@@ -296,7 +296,7 @@ SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSe
     for (int node = 0; node < patch.n_contacts; ++node) {
       if (sliding_[first + node]) {
         const Eigen::Vector3d p_patch =
-            patch.rotation.transpose() * impulses.segment<3>(3 * (first + node));
+            patch.node_rotation(node).transpose() * impulses.segment<3>(3 * (first + node));
         add_three_columns(patch.compliance_over_dt.col(3 * node).data(),
                           patch.compliance_over_dt.outerStride(), size, p_patch.data(), w.data());
       }
@@ -312,7 +312,7 @@ SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSe
       const int k = first + node;
       Eigen::Vector3d c_k = problem.free_velocity.segment<3>(3 * k);
       c_k[0] += problem.normal_bias[k];
-      c.segment<3>(3 * i).noalias() = patch.rotation.transpose() * c_k;
+      c.segment<3>(3 * i).noalias() = patch.node_rotation(node).transpose() * c_k;
       x.segment<3>(3 * i) = c.segment<3>(3 * i) + w.segment<3>(3 * node) +
                             lever_times(structure.lever, node, u_sliding);
     }
@@ -355,7 +355,7 @@ SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSe
     for (int i = 0; i < count; ++i) {
       const int node = active_order_[first + i];
       add_lever_transposed(structure.lever, node, x.segment<3>(3 * i), t);
-      const Eigen::Vector3d p = patch.rotation * x.segment<3>(3 * i);
+      const Eigen::Vector3d p = patch.node_rotation(node) * x.segment<3>(3 * i);
       const double mu = problem.friction[first + node];
       if (!(p[0] >= 0.0) || !(p[1] * p[1] + p[2] * p[2] <= mu * mu * p[0] * p[0]))
         ++n_outside;
@@ -382,7 +382,7 @@ SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSe
     auto p_patch = sticking_work_.head(size);                 // p~ in node order
     for (int node = 0; node < patch.n_contacts; ++node)
       p_patch.segment<3>(3 * node).noalias() =
-          patch.rotation.transpose() * sticking_full_.segment<3>(3 * (first + node));
+          patch.node_rotation(node).transpose() * sticking_full_.segment<3>(3 * (first + node));
     if (2 * count < patch.n_contacts) { // by the columns of A (w holds those of S)
       for (int i = 0; i < count; ++i) {
         const int node = active_order_[first + i];

@@ -69,12 +69,13 @@ bool WoodburyNewtonSystem::factorize(const ContactProblem& problem, const int* a
     Eigen::Map<Eigen::MatrixXd> d(buffer_.data() + seg.offset, size, size);
     for (int i = 0; i < seg.count; ++i) {
       const int ki = contacts_[seg.start + i];
-      const Eigen::Matrix3d bi = b_blocks.middleCols<3>(3 * ki) * p.rotation;
+      const Eigen::Matrix3d bi =
+          b_blocks.middleCols<3>(3 * ki) * p.node_rotation(ki - p.first_contact);
       for (int l = 0; l < seg.count; ++l) {
         const int kl = contacts_[seg.start + l] - p.first_contact;
         d.block<3, 3>(3 * i, 3 * l).noalias() =
             bi * p.compliance_over_dt.block<3, 3>(3 * (ki - p.first_contact), 3 * kl) *
-            p.rotation.transpose();
+            p.node_rotation(kl).transpose();
       }
       d.block<3, 3>(3 * i, 3 * i) += a_blocks.middleCols<3>(3 * ki);
       d.diagonal().segment<3>(3 * i).array() += delta;

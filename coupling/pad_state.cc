@@ -1,6 +1,7 @@
 #include "coupling/pad_state.h"
 
 #include "contact/compliance_terms.h"
+#include "contact/ground_frame.h"
 #include "contact/symmetry.h"
 
 #include <cmath>
@@ -19,6 +20,8 @@ PadState::PadState(const Eigen::Ref<const Eigen::MatrixXd>& compliance) : compli
   }
   contact::check_symmetric(compliance, "PadState", "compliance");
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(size);
+  node_rotations_.setZero(3, size);
+  frames_.setZero(3, size);
   displacement_ = offset_ = offset_contact_ = product_ = impulse_ = force_ = elastic_ =
       relaxation_ = zero;
 }
@@ -30,6 +33,7 @@ void PadState::attach(contact::ContactProblem& problem, int index, double time_s
   theta_ = theta;
   parked_ = compliance_ / std::pow(theta * time_step, 2);
   block().warm_product.setZero(compliance_.rows());
+  block().node_rotations.setZero(3, compliance_.rows());
 }
 
 void PadState::set_block() {
@@ -65,8 +69,14 @@ void PadState::set_compliance(const Eigen::Ref<const Eigen::MatrixXd>& complianc
     set_block();
   if (has_offset_) {
     for (int k = 0; k < size / 3; ++k)
-      offset_contact_.segment<3>(3 * k).noalias() = rotation_ * offset_.segment<3>(3 * k);
+      offset_contact_.segment<3>(3 * k).noalias() = node_rotation(k) * offset_.segment<3>(3 * k);
   }
+}
+
+Eigen::Vector3d PadState::node_to_world(int node, const Eigen::Vector3d& c) const {
+  if (per_node_)
+    return frames_.middleCols<3>(3 * node) * c;
+  return contact::ground_to_world(c);
 }
 
 void PadState::set_offset(const Eigen::Ref<const Eigen::VectorXd>& offset) {
@@ -82,7 +92,7 @@ void PadState::set_offset(const Eigen::Ref<const Eigen::VectorXd>& offset) {
   offset_ = offset;
   has_offset_ = true;
   for (int k = 0; k < n_nodes(); ++k)
-    offset_contact_.segment<3>(3 * k).noalias() = rotation_ * offset_.segment<3>(3 * k);
+    offset_contact_.segment<3>(3 * k).noalias() = node_rotation(k) * offset_.segment<3>(3 * k);
 }
 
 void PadState::set_damping(double beta) {
@@ -114,26 +124,46 @@ void PadState::deactivate(int first_contact) {
 }
 
 void PadState::activate(int first_contact, const Eigen::Matrix3d& rotation,
-                        Eigen::Vector3d* warm_start) {
+                        const Eigen::Matrix3d* node_frames, Eigen::Vector3d* warm_start) {
   contact::CompliantPatch& target = block();
   if (target.compliance_over_dt.size() == 0)
     target.compliance_over_dt.swap(parked_);
   target.first_contact = first_contact;
   const int n = n_nodes();
   target.n_contacts = n;
+  rotation_ = rotation;
+  if (node_frames != nullptr) {
+    // a_k = R_c,k^T R_body; the last displacements, C F and forces carried into the new
+    // frames: U <- R_c,k^T R_c,k,old U (world vectors kept).
+    const Eigen::Matrix3d body = contact::ground_frame() * rotation;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Matrix3d old_frame =
+          per_node_ ? Eigen::Matrix3d(frames_.middleCols<3>(3 * k)) : contact::ground_frame();
+      const Eigen::Matrix3d change = node_frames[k].transpose() * old_frame;
+      displacement_.segment<3>(3 * k) = change * displacement_.segment<3>(3 * k);
+      elastic_.segment<3>(3 * k) = change * elastic_.segment<3>(3 * k);
+      force_.segment<3>(3 * k) = change * force_.segment<3>(3 * k);
+      frames_.middleCols<3>(3 * k) = node_frames[k];
+      node_rotations_.middleCols<3>(3 * k).noalias() = node_frames[k].transpose() * body;
+    }
+    per_node_ = true;
+    target.node_rotations = node_rotations_; // same size: no allocation
+  } else {
+    per_node_ = false;
+  }
+  target.per_node_rotations = per_node_;
   if (has_last_solve_) {
     // Warm start: the last impulses carried with the body, p0 = a p_body, whose body-frame
     // product is the one kept. (Extrapolating p0 linearly from the last two solves cuts the
     // sweeps but, at loose tolerances, biases every solve forward: the open-loop walk fell.)
     for (int k = 0; k < n; ++k)
-      warm_start[k].noalias() = rotation * impulse_.segment<3>(3 * k);
+      warm_start[k].noalias() = node_rotation(k) * impulse_.segment<3>(3 * k);
     target.warm_product = product_; // same size: no allocation
   }
   if (has_offset_) {
     for (int k = 0; k < n; ++k)
-      offset_contact_.segment<3>(3 * k).noalias() = rotation * offset_.segment<3>(3 * k);
+      offset_contact_.segment<3>(3 * k).noalias() = node_rotation(k) * offset_.segment<3>(3 * k);
   }
-  rotation_ = rotation;
   target.rotation = rotation;
   // The kept product is the solver's warm-start product, renewed from scratch after 50 sweeps
   // of incremental updates (round-off).
@@ -188,14 +218,15 @@ void PadState::finish_step(const Eigen::Ref<const Eigen::VectorXd>& impulses,
   has_force_ = true;
   product_ = solver.patch_product(target);
   impulse_ = impulses.segment(3 * first, 3 * n);
-  contact::rotate_to_patch(rotation_, impulse_);
+  contact::rotate_to_patch(target, impulse_);
   has_last_solve_ = true;
   // A direct solve's product is fresh (no incremental updates).
   sweeps_since_fresh_ = result.direct ? 0 : sweeps_since_fresh_ + result.iterations;
   if (damping_ > 0.0)
     relaxation_ = displacement_ - relaxation_; // U_bar (before U is renewed)
   for (int k = 0; k < n; ++k)
-    displacement_.segment<3>(3 * k).noalias() = theta_dt * (rotation_ * product_.segment<3>(3 * k));
+    displacement_.segment<3>(3 * k).noalias() =
+        theta_dt * (node_rotation(k) * product_.segment<3>(3 * k));
   if (damping_ > 0.0) { // U+ = a C F + U_bar; C F = (a C F) / a for the next step
     const double a = theta / (damping_ / dt + theta);
     elastic_ = displacement_ / a;

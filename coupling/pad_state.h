@@ -45,9 +45,17 @@ public:
   /// its free recovery, e.g. a viscoelastic pad: coupling/viscoelastic_pad.h), renewed at every
   /// lifted step, instead of relaxing at once to U = 0 (the default). Between steps.
   void set_lifted_offset(bool on) { lifted_offset_ = on; }
-  /// a = R_c^T R_body of the last activate() (contact frame <- body frame): the frame of
-  /// force() and displacement() (node_force(k) = a F_body(k)).
+  /// a = R_g^T R_body of the last activate() (contact frame <- body frame, R_g the flat
+  /// ground's frame): the frame of force() and displacement() on flat ground (node_force(k) =
+  /// a F_body(k)). On a terrain each node has its own: node_rotation().
   const Eigen::Matrix3d& rotation() const { return rotation_; }
+  /// a_k = R_c,k^T R_body of node @p node at the last activate() (rotation() on flat ground).
+  Eigen::Matrix3d node_rotation(int node) const {
+    return per_node_ ? Eigen::Matrix3d(node_rotations_.middleCols<3>(3 * node)) : rotation_;
+  }
+  /// R_c,k c: a vector @p c of node @p node's contact frame (force(), displacement()) in world
+  /// components.
+  Eigen::Vector3d node_to_world(int node, const Eigen::Vector3d& c) const;
   /// Kelvin-Voigt damping time beta (s, >= 0, finite) of a stiffness-proportional pad damping
   /// D = beta K, which the static condensation keeps exactly; loss factor beta omega. Between
   /// steps; does not allocate. Throws std::invalid_argument on beta or on a pad with an offset.
@@ -69,7 +77,7 @@ public:
   }
   void deactivate(int first_contact) override;
   void activate(int first_contact, const Eigen::Matrix3d& rotation,
-                Eigen::Vector3d* warm_start) override;
+                const Eigen::Matrix3d* node_frames, Eigen::Vector3d* warm_start) override;
   void add_rate_terms() override;
   void finish_step(const Eigen::Ref<const Eigen::VectorXd>& impulses,
                    const contact::ContactSolver& solver, const contact::SolverResult& result,
@@ -91,15 +99,18 @@ private:
   bool has_offset_ = false;
   bool lifted_offset_ = false; // lifted: U = d (set_lifted_offset) rather than 0
   Eigen::Matrix3d rotation_ = Eigen::Matrix3d::Identity(); // a of the current step
-  Eigen::VectorXd product_;     // C/(theta dt)^2 (I (x) a)^T p of the last solve (body frame)
-  Eigen::VectorXd impulse_;     // (I (x) a)^T p of the last solve (body frame), N s
-  bool has_last_solve_ = false; // product_ and impulse_ hold the last step's solve
-  int sweeps_since_fresh_ = 0;  // solver sweeps since product_ was last computed afresh
-  Eigen::VectorXd force_;       // F at the end of the last step (contact frames), N
-  bool has_force_ = false;      // force_ is not zero
-  double damping_ = 0;          // beta (s)
-  Eigen::VectorXd elastic_;     // C F of the last step (contact frames), beta > 0
-  Eigen::VectorXd relaxation_;  // U - U_bar of this step (contact frames), beta > 0
+  bool per_node_ = false;           // the last activate() had node frames (a terrain)
+  Eigen::Matrix3Xd node_rotations_; // a_k of the current step (3 x 3 n), per_node_
+  Eigen::Matrix3Xd frames_;         // R_c,k of the current step (3 x 3 n), per_node_
+  Eigen::VectorXd product_;         // C/(theta dt)^2 (I (x) a)^T p of the last solve (body frame)
+  Eigen::VectorXd impulse_;         // (I (x) a)^T p of the last solve (body frame), N s
+  bool has_last_solve_ = false;     // product_ and impulse_ hold the last step's solve
+  int sweeps_since_fresh_ = 0;      // solver sweeps since product_ was last computed afresh
+  Eigen::VectorXd force_;           // F at the end of the last step (contact frames), N
+  bool has_force_ = false;          // force_ is not zero
+  double damping_ = 0;              // beta (s)
+  Eigen::VectorXd elastic_;         // C F of the last step (contact frames), beta > 0
+  Eigen::VectorXd relaxation_;      // U - U_bar of this step (contact frames), beta > 0
 };
 
 } // namespace plantar::coupling

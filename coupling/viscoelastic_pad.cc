@@ -67,10 +67,10 @@ void ViscoelasticPad::finish_step(PadState& state) {
     throw std::invalid_argument("ViscoelasticPad::finish_step: the state has " +
                                 std::to_string(state.n_nodes()) + " nodes (expected " +
                                 std::to_string(n) + ")");
-  // F_pad = R^T a^T F_contact (a: contact <- body of this step).
-  const Eigen::Matrix3d to_pad = rotation_.transpose() * state.rotation().transpose();
+  // F_pad = R^T a_k^T F_contact (a_k: node k's contact frame <- body, of this step).
   const Eigen::VectorXd& f = state.force();
   for (int k = 0; k < n; ++k) {
+    const Eigen::Matrix3d to_pad = rotation_.transpose() * state.node_rotation(k).transpose();
     const Eigen::Vector3d force =
         state.has_force() ? Eigen::Vector3d(to_pad * f.segment<3>(3 * k)) : Eigen::Vector3d::Zero();
     for (int d = 0; d < 3; ++d)

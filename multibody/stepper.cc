@@ -1,6 +1,7 @@
 #include "multibody/stepper.h"
 
 #include "contact/compliance_terms.h"
+#include "contact/flat_terrain.h"
 #include "contact/ground_frame.h"
 #include "multibody/configuration.h"
 #include "multibody/crba.h"
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -44,9 +46,16 @@ void StepperParameters::validate() const {
 }
 
 Stepper::Stepper(const Model& model, const StepperParameters& parameters)
-    : model_(model), parameters_(parameters), data_(model), gains_(PdGains::Zero(model)),
-      body_slot_(model.n_bodies, -1) {
+    : Stepper(model, parameters, contact::flat_ground()) {}
+
+Stepper::Stepper(const Model& model, const StepperParameters& parameters,
+                 const contact::Terrain& terrain)
+    : model_(model), parameters_(parameters), terrain_(&terrain), data_(model),
+      gains_(PdGains::Zero(model)), body_slot_(model.n_bodies, -1) {
   parameters_.validate();
+  const std::optional<double> level = terrain.level_height();
+  level_ground_ = level.has_value();
+  level_ = level.value_or(0.0);
   resize_workspaces();
 }
 
@@ -79,6 +88,7 @@ void Stepper::resize_workspaces() {
   gap_.setZero(points_.size());
   v_before_.setZero(points_.size());
   lever_.assign(points_.size(), Eigen::Vector3d::Zero());
+  frame_.assign(points_.size(), contact::ground_frame());
   active_points_.reserve(points_.size());
 }
 
@@ -172,13 +182,35 @@ double Stepper::evaluate_candidate(int point, double extra_gap) {
   const SE3& placement = data_.oMi[c.body];
   const Eigen::Vector3d r = placement.rotation * c.position;
   lever_[point] = r;
-  gap_[point] = (r + placement.translation).z() + extra_gap;
-  // Normal (z) velocity of the point: v_o,z + (w x r)_z.
   const int s = body_slot_[c.body];
   const Vector6d& vel = slot_velocity_[s];
   const Vector6d& free = slot_free_velocity_[s];
-  v_before_[point] = vel[2] + (vel[3] * r.y() - vel[4] * r.x());
-  return free[2] + (free[3] * r.y() - free[4] * r.x());
+  if (level_ground_) {
+    gap_[point] = ((r + placement.translation).z() - level_) + extra_gap;
+    // Normal (z) velocity of the point: v_o,z + (w x r)_z.
+    v_before_[point] = vel[2] + (vel[3] * r.y() - vel[4] * r.x());
+    return free[2] + (free[3] * r.y() - free[4] * r.x());
+  }
+  // The terrain's gap and frame at the point (x, y); normal velocity n . (v_o + w x r).
+  const contact::TerrainContact ground =
+      contact::terrain_contact(*terrain_, r + placement.translation);
+  frame_[point] = ground.frame;
+  gap_[point] = ground.gap + extra_gap;
+  const Eigen::Vector3d normal = ground.frame.col(0);
+  v_before_[point] = normal.dot(vel.head<3>() + vel.tail<3>().cross(r));
+  return normal.dot(free.head<3>() + free.tail<3>().cross(r));
+}
+
+Eigen::Vector3d Stepper::contact_velocity(int point, const Vector6d& twist) const {
+  if (level_ground_)
+    return point_velocity(twist, lever_[point]);
+  return frame_[point].transpose() * (twist.head<3>() + twist.tail<3>().cross(lever_[point]));
+}
+
+Eigen::Vector3d Stepper::to_world(int point, const Eigen::Vector3d& c) const {
+  if (level_ground_)
+    return contact::ground_to_world(c);
+  return frame_[point] * c;
 }
 
 void Stepper::fill_contact_rows(int k, int point) {
@@ -190,14 +222,28 @@ void Stepper::fill_contact_rows(int k, int point) {
   const Eigen::Matrix<double, 6, Eigen::Dynamic>& h =
       reduce_rigid_ ? slot_reduced_[s] : slot_factor_t_[s];
   Eigen::MatrixXd& g = problem_.rigid_factor;
-  for (int col = 0; col < g.cols(); ++col) {
-    const double* hc = h.col(col).data();
-    double* gc = g.col(col).data() + 3 * k;
-    gc[0] = hc[2] + r.y() * hc[3] - r.x() * hc[4];
-    gc[1] = hc[0] + r.z() * hc[4] - r.y() * hc[5];
-    gc[2] = hc[1] - r.z() * hc[3] + r.x() * hc[5];
+  if (level_ground_) {
+    for (int col = 0; col < g.cols(); ++col) {
+      const double* hc = h.col(col).data();
+      double* gc = g.col(col).data() + 3 * k;
+      gc[0] = hc[2] + r.y() * hc[3] - r.x() * hc[4];
+      gc[1] = hc[0] + r.z() * hc[4] - r.y() * hc[5];
+      gc[2] = hc[1] - r.z() * hc[3] + r.x() * hc[5];
+    }
+  } else { // the terrain frame: rows R_c^T (H_0..2 + H_3..5 x r)
+    const Eigen::Matrix3d rt = frame_[point].transpose();
+    for (int col = 0; col < g.cols(); ++col) {
+      const double* hc = h.col(col).data();
+      const Eigen::Vector3d u(hc[0] + hc[4] * r.z() - hc[5] * r.y(),
+                              hc[1] + hc[5] * r.x() - hc[3] * r.z(),
+                              hc[2] + hc[3] * r.y() - hc[4] * r.x());
+      double* gc = g.col(col).data() + 3 * k;
+      gc[0] = rt(0, 0) * u[0] + rt(0, 1) * u[1] + rt(0, 2) * u[2];
+      gc[1] = rt(1, 0) * u[0] + rt(1, 1) * u[1] + rt(1, 2) * u[2];
+      gc[2] = rt(2, 0) * u[0] + rt(2, 1) * u[1] + rt(2, 2) * u[2];
+    }
   }
-  problem_.free_velocity.segment<3>(3 * k) = point_velocity(slot_free_velocity_[s], r);
+  problem_.free_velocity.segment<3>(3 * k) = contact_velocity(point, slot_free_velocity_[s]);
 }
 
 void Stepper::reduce_rigid_factor() {
@@ -353,8 +399,8 @@ void Stepper::free_motion(const Eigen::Ref<const Eigen::VectorXd>& q,
     const SE3& placement = data_.oMi[patch.body];
     Vector6d& wrench = slot_impulse_[body_slot_[patch.body]];
     const Eigen::VectorXd& force = patch.state->force();
-    for (int k = 0; k < patch.nodes.cols(); ++k) {
-      const Eigen::Vector3d world = contact::ground_to_world(force.segment<3>(3 * k));
+    for (int k = 0; k < patch.nodes.cols(); ++k) { // in the last step's frames
+      const Eigen::Vector3d world = to_world(patch.first_point + k, force.segment<3>(3 * k));
       const Eigen::Vector3d r = placement.rotation * patch.nodes.col(k);
       wrench.head<3>() += lag * world;
       wrench.tail<3>() += r.cross(lag * world);
@@ -415,6 +461,7 @@ int Stepper::select_candidates() {
     }
     lap(profile_.contact_build);
     state.activate(n, contact::ground_frame_transpose() * data_.oMi[patch.body].rotation,
+                   level_ground_ ? nullptr : &frame_[patch.first_point],
                    &point_impulse_[patch.first_point]);
     lap(profile_.sole_update);
     for (int k = 0; k < n_nodes; ++k) {
@@ -480,7 +527,7 @@ void Stepper::assemble(int n, const Eigen::Ref<const Eigen::VectorXd>& v) {
     if (node && theta < 1.0) {
       problem_.free_velocity.segment<3>(3 * k) +=
           ((1.0 - theta) / theta) *
-          point_velocity(slot_velocity_[body_slot_[points_[point].body]], lever_[point]);
+          contact_velocity(point, slot_velocity_[body_slot_[points_[point].body]]);
     }
     problem_.friction[k] = points_[point].friction;
     impulses_.segment<3>(3 * k) = point_impulse_[point];
@@ -506,7 +553,7 @@ void Stepper::apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v) {
     impulse.setZero();
   }
   for (int k = 0; k < n; ++k) {
-    const Eigen::Vector3d world = contact::ground_to_world(impulses_.segment<3>(3 * k));
+    const Eigen::Vector3d world = to_world(active_points_[k], impulses_.segment<3>(3 * k));
     Vector6d& wrench = slot_impulse_[body_slot_[points_[active_points_[k]].body]];
     wrench.head<3>() += world;
     wrench.tail<3>() += lever_[active_points_[k]].cross(world);
@@ -524,8 +571,8 @@ void Stepper::apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v) {
 
 Eigen::Vector3d Stepper::total_contact_force() const {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (const auto& p : point_impulse_) {
-    sum += contact::ground_to_world(p);
+  for (std::size_t point = 0; point < point_impulse_.size(); ++point) {
+    sum += to_world(static_cast<int>(point), point_impulse_[point]);
   }
   return sum / parameters_.time_step;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // The velocity-level time stepper (David et al. 2008, eq. 4: explicit Adams order 1, i.e. a
 // Moreau-Jean step) with linear-implicit joint springs, and frictional contact against the
-// ground plane z = 0 solved by contact/ (frame: contact/ground_frame.h).
+// ground, a contact::Terrain (contact/terrain.h; the plane z = 0 by default), solved by
+// contact/.
 //
 // One step of length dt, from (q, v) to (q+, v+), theta in [1/2, 1] (Moreau-Jean theta
 // method; theta = 1 is the paper's eq. 4, the default):
@@ -27,16 +28,20 @@
 // With implicit_gains = false the springs are explicit instead (M_eff = M, forces at q, v):
 // kept to show that stiff gains diverge that way.
 //
-// Contact problem (contact/contact_problem.h), contact frame rows (n = +z, t1 = +x,
-// t2 = +y): J_c the point Jacobians in that order, G = J_c L^-T (so G G^T = J_c M_eff^-1 J_c^T),
+// Contact problem (contact/contact_problem.h), rows in each contact's frame R_c = [n t1 t2] at
+// its point (contact/terrain.h: the terrain's normal and tangents at the point's (x, y); on
+// flat ground (n, t1, t2) = (z, x, y), contact/ground_frame.h, with the rows written out):
+// J_c = R_c^T [I, -[r]x] J_b the point Jacobians, G = J_c L^-T (so G G^T = J_c M_eff^-1 J_c^T),
 // v_free,c = J_c v_free, b = contact::normal_bias: restitution e v_n^- for a bouncing impact,
 // gap/dt for a contact activated before touching (gap > 0, so that it lands on the plane
 // instead of stopping above it, and no deeper), else the position correction.
-// A point is active when its gap g (z of the point) satisfies g + dt min(v_free,n, 0) <= 0.
+// A point is active when its gap g (the terrain's first-order gap (p_z - h(p_x, p_y)) n_z; on
+// flat ground z0 = 0 the point's z) satisfies g + dt min(v_free,n, 0) <= 0.
 // A deformable patch (nodes fixed to a body) enters as a whole when any of its nodes is active
 // (its unloaded gap, contact::DeformablePatch::unloaded_gap); its block is
-// (I (x) a) C (I (x) a)^T / (theta dt)^2 with a = R_c^T R_body (contact frame <- body frame),
-// kept in the body frame (CompliantPatch::rotation), plus the deformation-rate term of eq. 12
+// A C A^T / (theta dt)^2 with A = blockdiag(a_i), a_i = R_c,i^T R_body (node i's contact frame
+// <- body frame; one a on flat ground), the block kept in the body frame
+// (CompliantPatch::node_rotation), plus the deformation-rate term of eq. 12
 // (compliance_terms.h); node gaps include the previous step's deformation.
 // A step reads: free_motion (dynamics), select_candidates, assemble, the contact solve,
 // apply_impulses, then each patch's finish_step and the integration of q.
@@ -52,6 +57,7 @@
 #include "contact/deformable_patch.h"
 #include "contact/position_correction.h"
 #include "contact/solver_settings.h"
+#include "contact/terrain.h"
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/pd_gains.h"
@@ -110,7 +116,9 @@ struct StepReport {
 
 class Stepper {
 public:
-  /// @p model must outlive the stepper.
+  /// @p model and @p terrain must outlive the stepper (the default: the plane z = 0,
+  /// contact::flat_ground()).
+  Stepper(const Model& model, const StepperParameters& parameters, const contact::Terrain& terrain);
   Stepper(const Model& model, const StepperParameters& parameters);
 
   void set_gains(const PdGains& gains);
@@ -138,8 +146,9 @@ public:
   /// Data of the last step's start configuration (M, bias, placements).
   const Data& data() const { return data_; }
   const contact::ContactProblem& problem() const { return problem_; }
-  /// Impulse (N s, contact frame [n = z, t1 = x, t2 = y]) of the last step on contact point
-  /// @p point (index returned by add_contact_point).
+  /// Impulse (N s, the point's contact frame (n, t1, t2): point_frame(); on flat ground
+  /// [n = z, t1 = x, t2 = y]) of the last step on contact point @p point (index returned by
+  /// add_contact_point).
   const Eigen::Vector3d& point_impulse(int point) const {
     return point_impulse_[n_patch_points_ + point];
   }
@@ -148,6 +157,14 @@ public:
   const Eigen::Vector3d& node_impulse(int patch, int node) const {
     return point_impulse_[patches_[patch].first_point + node];
   }
+  /// R_c (world <- contact frame) of contact point @p point at the last step (its terrain frame;
+  /// the flat ground's before the first step).
+  const Eigen::Matrix3d& point_frame(int point) const { return frame_[n_patch_points_ + point]; }
+  /// Same for node @p node of patch @p patch.
+  const Eigen::Matrix3d& node_frame(int patch, int node) const {
+    return frame_[patches_[patch].first_point + node];
+  }
+  const contact::Terrain& terrain() const { return *terrain_; }
   /// Sum of the last step's contact forces on the robot (N, world): impulses / dt.
   Eigen::Vector3d total_contact_force() const;
   double time_step() const { return parameters_.time_step; }
@@ -172,8 +189,8 @@ private:
   int add_body_slot(int body);
   /// x <- M_eff^-1 x from the factor in effective_mass_.
   void solve_effective_mass(Eigen::VectorXd& x) const;
-  /// Gap, lever r = p - o_b and normal velocities (at v and v_free) of candidate @p point;
-  /// returns the normal free velocity.
+  /// Gap, frame, lever r = p - o_b and normal velocities (at v and v_free) of candidate
+  /// @p point; returns the normal free velocity.
   double evaluate_candidate(int point, double extra_gap);
   /// Row block k (3 rows) of G and v_free,c for candidate @p point.
   void fill_contact_rows(int k, int point);
@@ -194,9 +211,16 @@ private:
   void apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v);
   /// Adds the wall time since the last lap to @p bucket (profile_).
   void lap(double& bucket);
+  /// R_c^T (v_o + w x r) for candidate @p point and the body twist @p twist (v_o, w), world.
+  Eigen::Vector3d contact_velocity(int point, const Vector6d& twist) const;
+  /// A contact-frame vector @p c of candidate @p point in world components: R_c c.
+  Eigen::Vector3d to_world(int point, const Eigen::Vector3d& c) const;
 
   const Model& model_;
   StepperParameters parameters_;
+  const contact::Terrain* terrain_;
+  bool level_ground_; // the terrain is z = level_: the frame is ground_frame.h's everywhere
+  double level_ = 0.0;
   Data data_;
   PdGains gains_;
   std::vector<ContactPoint> points_; // patch nodes first, then free points
@@ -224,6 +248,7 @@ private:
   Eigen::VectorXd impulses_;                                           // 3 max
   Eigen::VectorXd gap_, v_before_;                                     // per candidate point
   std::vector<Eigen::Vector3d> lever_; // per candidate point: r = p - o_b (world, m)
+  std::vector<Eigen::Matrix3d> frame_; // per candidate point: R_c of its last evaluation
   std::vector<int> active_points_;     // capacity = number of points
   contact::ContactProblem problem_;
   contact::ContactSolver solver_;

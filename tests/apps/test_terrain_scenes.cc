@@ -1,0 +1,168 @@
+// The humanoid scenes on a terrain (subsection Terrain, docs/terrain.md, issue 23): the scene
+// errors name the entry or the grid file's line and column; the robot starts on the ground (its
+// reference raised by the highest ground under its feet) and stands on sinusoidal bumps; the
+// ParaView terrain.vts holds the surface (every point at h(x, y), unit normals) and scene.pvd
+// shows it at every frame; the time loop allocates nothing on a rough ground, per foot form.
+#include "apps/humanoid_simulation.h"
+#include "apps/scene_vtk_writer.h"
+#include "contact/terrain.h"
+#include "multibody/kinematics.h"
+#include "tests/allocation_counter.h"
+#include "tests/apps/humanoid_test_utilities.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+namespace plantar::app {
+namespace {
+
+using plantar::testing::counting;
+using plantar::testing::n_allocations;
+
+std::string error_of(const std::vector<std::pair<std::string, std::string>>& overrides) {
+  try {
+    const Scene scene = testing::load_humanoid_scene("stand", overrides);
+    HumanoidSimulation simulation(scene);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(TerrainScenes, ErrorsNameTheEntryOrTheFileLine) {
+  const std::string no_file = error_of({{"Terrain/Type", "grid"}});
+  EXPECT_NE(no_file.find("Terrain/Grid file is empty"), std::string::npos) << no_file;
+  const std::string cylinder =
+      error_of({{"Terrain/Type", "cylinder"}, {"Terrain/Cylinder height", "0.2"}});
+  EXPECT_NE(cylinder.find("Terrain/Cylinder height = 0.2"), std::string::npos) << cylinder;
+  const std::filesystem::path csv =
+      std::filesystem::temp_directory_path() / "plantar_terrain_scene_bad.csv";
+  std::ofstream(csv) << "0, 0, 0\n0, 0.01, oops\n";
+  const std::string bad = error_of({{"Terrain/Type", "grid"}, {"Terrain/Grid file", csv.string()}});
+  EXPECT_NE(bad.find("plantar_terrain_scene_bad.csv line 2 column 3: 'oops'"), std::string::npos)
+      << bad;
+  EXPECT_NE(bad.find("Terrain (Type = grid)"), std::string::npos) << bad;
+}
+
+TEST(TerrainScenes, RobotStandsOnBumpsAndParaViewShowsTheTerrain) {
+  const Scene scene = testing::load_humanoid_scene("stand", {{"Robot/Foot form", "rigid"},
+                                                             {"Simulation/Duration", "1"},
+                                                             {"Terrain/Type", "bumps"},
+                                                             {"Terrain/Bump amplitude", "0.004"},
+                                                             {"Terrain/Bump wavelength x", "0.8"},
+                                                             {"Terrain/Bump wavelength y", "0"},
+                                                             {"Terrain/Level", "0.01"}});
+  HumanoidSimulation simulation(scene);
+  const std::filesystem::path out = std::filesystem::current_path() / "out-terrain-bumps";
+  std::filesystem::remove_all(out);
+  SceneVtkWriter writer(simulation, scene.robot.urdf_file, 0.02, out);
+  writer.write(simulation);
+  // At t = 0 the lowest contact point of the feet is on the ground: the lift is the highest
+  // ground under them, h = 0.01 + 0.004 cos(2 pi x / 0.8) at the feet (x within +-0.11 m).
+  const contact::Terrain& terrain = simulation.terrain();
+  multibody::Data data(simulation.model());
+  multibody::forward_kinematics(simulation.model(), data, simulation.q());
+  double min_gap = 1e9;
+  for (int foot = 0; foot < 2; ++foot) {
+    const multibody::SE3 sole = multibody::frame_placement(
+        simulation.model(), data, simulation.foot_model().sole_frame(foot));
+    const Eigen::Matrix3Xd& points = simulation.foot_model().contact_points();
+    for (int k = 0; k < points.cols(); ++k)
+      min_gap = std::min(min_gap, contact::terrain_gap(terrain, sole.act_point(points.col(k))));
+  }
+  while (simulation.steps_done() < simulation.n_steps())
+    simulation.step();
+  writer.write(simulation);
+  std::printf("stand on bumps: terrain lift %.6f m (ground 0.010 + 0.004 cos(2 pi x / 0.8) "
+              "<= 0.014), lowest contact point at t = 0 %.2e m above the ground; after 1 s "
+              "max depth %.2e m, waist z %.4f m\n",
+              simulation.terrain_lift(), min_gap, simulation.summary().max_penetration,
+              simulation.q()[2]);
+  EXPECT_GT(simulation.terrain_lift(), 0.013);
+  EXPECT_LE(simulation.terrain_lift(), 0.014 + 1e-12);
+  EXPECT_NEAR(min_gap, 0.0, 1e-4); // a foot corner on the highest ground (the sole is flat)
+  EXPECT_LT(simulation.summary().max_penetration, 1e-3);
+
+  // terrain.vts: every point on the surface, unit normals (-h_x, 0, 1)/|.|.
+  std::ifstream in(out / "terrain.vts");
+  ASSERT_TRUE(in.good());
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string vts = text.str();
+  const auto points_at = vts.find("<Points>");
+  const auto normals_at = vts.find("Name=\"normal\"");
+  ASSERT_NE(points_at, std::string::npos);
+  ASSERT_NE(normals_at, std::string::npos);
+  std::istringstream points(vts.substr(vts.find('>', vts.find("<DataArray", points_at)) + 1));
+  std::istringstream normals(vts.substr(vts.find('>', normals_at) + 1));
+  double worst_height = 0, worst_normal = 0;
+  int n_points = 0;
+  double x, y, z, nx, ny, nz;
+  while (points >> x >> y >> z && normals >> nx >> ny >> nz) {
+    ++n_points;
+    worst_height = std::max(worst_height, std::abs(z - terrain.height(x, y)));
+    const Eigen::Vector3d n = contact::terrain_normal(terrain.gradient(x, y));
+    worst_normal = std::max(worst_normal, (Eigen::Vector3d(nx, ny, nz) - n).norm());
+  }
+  // scene.pvd: the terrain is the last part of each of the two frames.
+  std::ifstream pvd_in(out / "scene.pvd");
+  std::stringstream pvd;
+  pvd << pvd_in.rdbuf();
+  const std::string collection = pvd.str();
+  int n_terrain = 0;
+  for (auto at = collection.find("file=\"terrain.vts\""); at != std::string::npos;
+       at = collection.find("file=\"terrain.vts\"", at + 1))
+    ++n_terrain;
+  std::printf("terrain.vts: %d points, max |z - h(x, y)| %.1e m, max |n - n(x, y)| %.1e; "
+              "scene.pvd lists it %d times\n",
+              n_points, worst_height, worst_normal, n_terrain);
+  EXPECT_GT(n_points, 10000);
+  EXPECT_LT(worst_height, 1e-9);
+  EXPECT_LT(worst_normal, 1e-8);
+  EXPECT_EQ(n_terrain, 2);
+}
+
+class TerrainAllocation : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(TerrainAllocation, StepAllocatesNothingOnRoughGround) {
+  const Scene scene = testing::load_humanoid_scene(
+      "walk", {{"Robot/Foot form", GetParam()},
+               {"Simulation/Duration", "1.6"},
+               {"Walking/Footsteps", "0.135, -0.105, 0; 0.135, 0.105, 0"},
+               {"Walking/Standing before", "0.1"},
+               {"Walking/Initial double support time", "0.4"},
+               {"Robot/Ankle deflection compensation", "false"},
+               {"Terrain/Type", "rough"},
+               {"Terrain/Rough RMS", "0.002"},
+               {"Terrain/Rough size", "1, 1"}});
+  HumanoidSimulation sim(scene);
+  for (int n = 0; n < 10; ++n)
+    sim.step();
+  n_allocations = 0;
+  counting = true;
+  while (sim.steps_done() < sim.n_steps())
+    sim.step();
+  counting = false;
+  counting = true;
+  ::operator delete(::operator new(16)); // the counter sees a deliberate allocation
+  counting = false;
+  const long n = n_allocations.load() - 1;
+  std::printf("walk on rough ground (%s): %d steps, %ld heap allocations in step() (expected "
+              "0), up to %d contacts\n",
+              GetParam(), sim.steps_done() - 10, n, sim.summary().max_active_contacts);
+  EXPECT_GE(n_allocations.load(), 1);
+  EXPECT_EQ(n, 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(FootForms, TerrainAllocation, ::testing::ValuesIn(testing::foot_forms),
+                         [](const auto& info) { return testing::foot_form_name(info); });
+
+} // namespace
+} // namespace plantar::app
