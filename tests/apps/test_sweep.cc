@@ -21,16 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 
 using plantar::test::Outcome;
+using plantar::test::read_text;
 using plantar::test::summary_value;
 Outcome run(const std::string& arguments) {
   return plantar::test::run_plantar(arguments);
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 /// The drop scene, FEM sole of 5 cm cells, 0.08 s (the impact is at 0.045 s), E x nu = 2 x 2.

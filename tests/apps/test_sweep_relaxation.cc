@@ -20,15 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using plantar::test::read_text;
 using plantar::test::run_plantar;
 using plantar::test::summary_value;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 /// scenes/visco_drop.prm shortened and coarsened, with @p tail appended.
 fs::path scene_file(const std::string& name, const std::string& tail) {
