@@ -1,4 +1,5 @@
 #include "apps/static_contact_job.h"
+#include "apps/static_sole_job.h"
 
 #include "fem/atomic_file.h"
 #include "fem/distributed_contact.h"
@@ -107,15 +108,7 @@ StaticContactResult run_static_contact(const Scene& scene, const std::filesystem
         << " (about 2e8 DoF in Q1); refine less or mesh coarser";
     throw std::invalid_argument(msg.str());
   }
-  const fem::MaterialTable materials = [&] {
-    try {
-      return fem::MaterialTable(fem::parse_material_specs(scene.sole.materials, "Sole/Materials"),
-                                groups);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("Sole/Materials against '" + scene.sole.geometry_file.string() +
-                                  "': " + e.what());
-    }
-  }();
+  const fem::MaterialTable materials = sole_material_table(scene, groups);
   // The ground and the rotation point from the unloaded mesh.
   dealii::Point<3> lower, upper;
   for (unsigned int d = 0; d < 3; ++d) {

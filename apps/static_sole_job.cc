@@ -10,6 +10,16 @@
 
 namespace plantar::app {
 
+fem::MaterialTable sole_material_table(const Scene& scene, const fem::PhysicalGroups& groups) {
+  try {
+    return fem::MaterialTable(fem::parse_material_specs(scene.sole.materials, "Sole/Materials"),
+                              groups);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument("Sole/Materials against '" + scene.sole.geometry_file.string() +
+                                "': " + e.what());
+  }
+}
+
 StaticSoleResult run_static_sole(const Scene& scene, const std::filesystem::path& output) {
   const auto start = std::chrono::steady_clock::now();
   auto request = scene.sole.mesh_request();
@@ -20,15 +30,7 @@ StaticSoleResult run_static_sole(const Scene& scene, const std::filesystem::path
   const auto groups = fem::import_mesh(msh, {"top", "bottom"}, tria);
   if (fem::cell_kind(tria) != scene.sole.cell_kind)
     throw std::runtime_error("mesh '" + msh.string() + "' does not hold the requested cell kind");
-  const fem::MaterialTable materials = [&] {
-    try {
-      return fem::MaterialTable(fem::parse_material_specs(scene.sole.materials, "Sole/Materials"),
-                                groups);
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("Sole/Materials against '" + scene.sole.geometry_file.string() +
-                                  "': " + e.what());
-    }
-  }();
+  const fem::MaterialTable materials = sole_material_table(scene, groups);
   const fem::Discretization disc(scene.sole.cell_kind, scene.sole.degree);
   fem::LinearElasticity problem(tria, disc, materials);
   problem.setup({{groups.surface("top"), nullptr}});
