@@ -17,6 +17,29 @@ inline std::atomic<bool> counting{false};
 inline std::atomic<long> n_allocations{0};
 } // namespace plantar::testing
 
+namespace plantar::testing {
+/// The heap allocations counted while @p work runs (`during`), and whether the counter sees a
+/// deliberate allocation made right after (`counter_works`: a test of "no allocation" must
+/// assert it, else it cannot fail).
+struct AllocationCount {
+  long during = 0;
+  bool counter_works = false;
+};
+template <class Work> AllocationCount count_allocations(Work&& work) {
+  n_allocations = 0;
+  counting = true;
+  work();
+  counting = false;
+  AllocationCount result;
+  result.during = n_allocations.load();
+  counting = true;
+  ::operator delete(::operator new(16)); // a call, not a new-expression: not elided
+  counting = false;
+  result.counter_works = n_allocations.load() > result.during;
+  return result;
+}
+} // namespace plantar::testing
+
 #if defined(__SANITIZE_ADDRESS__)
 
 extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*,
