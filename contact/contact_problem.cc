@@ -86,8 +86,16 @@ void ContactProblem::validate(bool check_matrices) const {
            ") must be sorted, disjoint and inside [0, n_contacts = " + std::to_string(n_contacts) +
            ")");
     previous_end = patch.first_contact + patch.n_contacts;
-    if (patch.compliance_over_dt.rows() != 3 * patch.n_contacts ||
-        patch.compliance_over_dt.cols() != 3 * patch.n_contacts)
+    if (patch.compressed != nullptr) {
+      if (patch.compressed->n_nodes() != patch.n_contacts || patch.compliance_over_dt.size() != 0)
+        fail(name + ".compressed has " + std::to_string(patch.compressed->n_nodes()) +
+             " nodes and compliance_over_dt " + std::to_string(patch.compliance_over_dt.size()) +
+             " entries, expected n_contacts = " + std::to_string(patch.n_contacts) + " and 0");
+      if (!(patch.compressed_scale > 0.0) || !std::isfinite(patch.compressed_scale))
+        fail(name + ".compressed_scale = " + std::to_string(patch.compressed_scale) +
+             ", allowed (0, inf)");
+    } else if (patch.compliance_over_dt.rows() != 3 * patch.n_contacts ||
+               patch.compliance_over_dt.cols() != 3 * patch.n_contacts)
       fail(name + ".compliance_over_dt is " + std::to_string(patch.compliance_over_dt.rows()) +
            "x" + std::to_string(patch.compliance_over_dt.cols()) + ", expected " +
            std::to_string(3 * patch.n_contacts) + " square");
@@ -139,7 +147,7 @@ Eigen::Matrix3d ContactProblem::diagonal_block(int contact) const {
     const int local = contact - patch.first_contact;
     if (local >= 0 && local < patch.n_contacts) {
       const Eigen::Matrix3d a = patch.node_rotation(local);
-      block += a * patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local) * a.transpose();
+      block += a * patch.node_block(local) * a.transpose();
     }
   }
   return block;
@@ -161,8 +169,7 @@ void ContactProblem::diagonal_traces(Eigen::Ref<Eigen::VectorXd> traces) const {
   }
   for (const CompliantPatch& patch : patches)
     for (int local = 0; local < patch.n_contacts; ++local)
-      t[patch.first_contact + local] +=
-          patch.compliance_over_dt.block<3, 3>(3 * local, 3 * local).trace();
+      t[patch.first_contact + local] += patch.node_block(local).trace();
   if (!general.empty())
     for (int k = 0; k < n; ++k)
       t[k] += general.diagonal_block(k).trace();
@@ -180,6 +187,15 @@ void ContactProblem::apply_delassus(const Eigen::Ref<const Eigen::VectorXd>& p,
     // (I (x) R) C (I (x) R)^T p, by 3-column panels (no scratch).
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
     auto segment = out.segment(first, size);
+    if (patch.compressed != nullptr) {
+      patch.compressed->multiply_nodes(
+          [&](int node) -> Eigen::Vector3d {
+            return patch.node_rotation(node).transpose() * p.segment<3>(first + 3 * node);
+          },
+          segment, patch.compressed_scale);
+      rotate_from_patch(patch, segment);
+      continue;
+    }
     for (int j = 0; j < size; j += 3) {
       const Eigen::Vector3d p_patch =
           patch.node_rotation(j / 3).transpose() * p.segment<3>(first + j);
@@ -222,12 +238,16 @@ void ContactProblem::assemble_delassus_into(Eigen::Ref<Eigen::MatrixXd> out,
     general.add_to_dense(delassus, symmetric_part);
   for (const CompliantPatch& patch : patches) {
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
+    const Eigen::MatrixXd compressed = // allocates, with a compressed patch only
+        patch.compressed != nullptr
+            ? Eigen::MatrixXd(patch.compressed_scale * patch.compressed->to_dense())
+            : Eigen::MatrixXd();
+    const auto& block = patch.compressed != nullptr ? compressed : patch.compliance_over_dt;
     for (int i = 0; i < size; i += 3) {
       const Eigen::Matrix3d a_i = patch.node_rotation(i / 3);
       for (int j = 0; j < size; j += 3)
-        delassus.block<3, 3>(first + i, first + j) += a_i *
-                                                      patch.compliance_over_dt.block<3, 3>(i, j) *
-                                                      patch.node_rotation(j / 3).transpose();
+        delassus.block<3, 3>(first + i, first + j) +=
+            a_i * block.block<3, 3>(i, j) * patch.node_rotation(j / 3).transpose();
     }
   }
 }

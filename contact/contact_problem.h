@@ -35,6 +35,7 @@
 // must likewise be sized before the loop.)
 
 #include "contact/general_delassus.h"
+#include "contact/hierarchical_compliance.h"
 #include "contact/patch_lever.h"
 
 #include <Eigen/Core>
@@ -71,6 +72,19 @@ struct CompliantPatch {
   /// a_i of contact @p node of the patch (0 <= node < n_contacts).
   Eigen::Matrix3d node_rotation(int node) const {
     return per_node_rotations ? Eigen::Matrix3d(node_rotations.middleCols<3>(3 * node)) : rotation;
+  }
+  /// Optional: C (m/N, patch frame) compressed as an H-matrix (hierarchical_compliance.h), used
+  /// instead of compliance_over_dt (then empty) as the block compressed_scale C, with
+  /// compressed_scale = 1/dt^2 (or 1/(theta dt)^2). Not owned; compressed->n_nodes() must equal
+  /// n_contacts. Only the Gauss-Seidel solver takes it (ContactSolver refuses the others and the
+  /// direct solve on the sticking set); warm_product is not used.
+  const HierarchicalCompliance* compressed = nullptr;
+  double compressed_scale = 1.0;
+  /// C_kk of node @p node (3 x 3, patch frame, m/(N s^2)) from the dense or compressed block.
+  Eigen::Matrix3d node_block(int node) const {
+    return compressed != nullptr
+               ? Eigen::Matrix3d(compressed_scale * compressed->diagonal_block(node))
+               : Eigen::Matrix3d(compliance_over_dt.block<3, 3>(3 * node, 3 * node));
   }
   /// Optional warm-start product (3 n_contacts, m/s, patch frame):
   /// compliance_over_dt (I (x) R)^T p0 for the impulses p0 the solver starts

@@ -132,6 +132,14 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
     throw std::invalid_argument(msg.str());
   }
   problem.validate(/*check_matrices=*/false); // non-finite W shows as SolverStatus::non_finite
+  bool compressed = false;
+  for (const CompliantPatch& patch : problem.patches)
+    compressed = compressed || patch.compressed != nullptr;
+  if (compressed && settings.solver != ContactSolverType::gauss_seidel)
+    throw std::invalid_argument(std::string("ContactSolver::solve: a compressed patch "
+                                            "(CompliantPatch::compressed) needs the "
+                                            "gauss-seidel solver, not ") +
+                                to_string(settings.solver));
   SolverResult result;
   history_.size = 0;
   if (n == 0) {
@@ -154,7 +162,7 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
   // The direct attempt, then the iteration (from the refused candidate and its products).
   DirectAttempt attempt = DirectAttempt::not_tried;
   StartProducts start = StartProducts::build;
-  if (settings.sticking_direct && settings.warm_start && problem.general.empty()) {
+  if (settings.sticking_direct && settings.warm_start && problem.general.empty() && !compressed) {
     result = sticking_.solve(problem, settings, impulses, products_);
     attempt = result.direct_attempt;
     if (attempt == DirectAttempt::accepted)

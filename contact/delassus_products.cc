@@ -52,6 +52,14 @@ void DelassusProducts::compute_patch_product(const CompliantPatch& patch,
                                              const Eigen::Ref<const Eigen::VectorXd>& p) {
   const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
   auto out = patch_product.segment(first, size);
+  if (patch.compressed != nullptr) {
+    patch.compressed->multiply_nodes(
+        [&](int node) -> Eigen::Vector3d {
+          return patch.node_rotation(node).transpose() * p.segment<3>(first + 3 * node);
+        },
+        out, patch.compressed_scale);
+    return;
+  }
   out.setZero();
   for (int j = 0; j < size; j += 3) {
     const Eigen::Vector3d p_patch =

@@ -29,6 +29,34 @@ void GaussSeidelSolver::resize(int max_contacts, int rigid_rank) {
   has_inverse_.setZero(max_contacts);
 }
 
+void GaussSeidelSolver::start_compressed(const ContactProblem& problem, int j,
+                                         const Eigen::Ref<const Eigen::VectorXd>& p) {
+  const CompliantPatch& patch = problem.patches[j];
+  if (compressed_.size() < problem.patches.size())
+    compressed_.resize(problem.patches.size());
+  HierarchicalCompliance::ProductState& state = compressed_[j];
+  if (state.near.size() != 3 * patch.n_contacts)
+    patch.compressed->resize_state(state);
+  const int first = 3 * patch.first_contact;
+  patch.compressed->start_product(
+      [&](int node) -> Eigen::Vector3d {
+        return patch.node_rotation(node).transpose() * p.segment<3>(first + 3 * node);
+      },
+      state);
+}
+
+void GaussSeidelSolver::write_compressed(const ContactProblem& problem,
+                                         DelassusProducts& products) const {
+  for (std::size_t j = 0; j < problem.patches.size(); ++j) {
+    const CompliantPatch& patch = problem.patches[j];
+    if (patch.compressed != nullptr)
+      patch.compressed->write_product(
+          compressed_[j],
+          products.patch_product.segment(3 * patch.first_contact, 3 * patch.n_contacts),
+          patch.compressed_scale);
+  }
+}
+
 void GaussSeidelSolver::start_iteration(const ContactProblem& problem,
                                         const SolverSettings& settings,
                                         const Eigen::Ref<const Eigen::VectorXd>& p,
@@ -39,9 +67,12 @@ void GaussSeidelSolver::start_iteration(const ContactProblem& problem,
   const int m = rigid_rank_;
   products.rigid.head(m).noalias() = problem.rigid_factor.topRows(n3).transpose() * p.head(n3);
   products.patch_product.head(n3).setZero();
-  for (const CompliantPatch& patch : problem.patches) {
+  for (std::size_t index = 0; index < problem.patches.size(); ++index) {
+    const CompliantPatch& patch = problem.patches[index];
     const int first = 3 * patch.first_contact, size = 3 * patch.n_contacts;
-    if (patch.warm_product_valid && settings.warm_start) {
+    if (patch.compressed != nullptr) {
+      start_compressed(problem, static_cast<int>(index), p);
+    } else if (patch.warm_product_valid && settings.warm_start) {
       products.patch_product.segment(first, size) = patch.warm_product.head(size);
       for (int i = first; i < first + size; i += 3) { // the projection's change of p
         const Eigen::Vector3d change = products.warm_change.segment<3>(i);
@@ -96,6 +127,7 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
   auto check = [&]() {
     products.velocity.head(n3).noalias() = g * products.rigid.head(m);
     products.velocity.head(n3) += problem.free_velocity.head(n3);
+    write_compressed(problem, products);
     products.add_patch_velocities(problem);
     if (general)
       problem.general.add_product(p, products.velocity);
@@ -113,8 +145,11 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
     // limit the round-off drift of the incremental updates.
     if (sweep % 50 == 0) {
       products.rigid.head(m).noalias() = g.transpose() * p.head(n3);
-      for (const CompliantPatch& patch : problem.patches)
-        products.compute_patch_product(patch, p);
+      for (std::size_t j = 0; j < problem.patches.size(); ++j)
+        if (problem.patches[j].compressed != nullptr)
+          start_compressed(problem, static_cast<int>(j), p);
+        else
+          products.compute_patch_product(problem.patches[j], p);
     }
     result.n_nonunique_local = 0;
     result.n_failed_local = 0;
@@ -135,8 +170,15 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
         const Eigen::Vector3d p_old = p.segment<3>(3 * k);
         const int j = products.patch_of[k];
         Eigen::Vector3d v_k = problem.free_velocity.segment<3>(3 * k);
-        if (j >= 0)
-          v_k.noalias() += problem.patches[j].node_rotation(k - problem.patches[j].first_contact) *
+        const CompliantPatch* patch = j >= 0 ? &problem.patches[j] : nullptr;
+        const bool compressed = patch != nullptr && patch->compressed != nullptr;
+        if (compressed)
+          v_k.noalias() +=
+              patch->node_rotation(k - patch->first_contact) *
+              (patch->compressed_scale *
+               patch->compressed->node_product(k - patch->first_contact, compressed_[j]));
+        else if (j >= 0)
+          v_k.noalias() += patch->node_rotation(k - patch->first_contact) *
                            products.patch_product.segment<3>(3 * k);
         for (int c = 0; c < m; ++c) { // G_k y
           const double* g_c = problem.rigid_factor.col(c).data() + 3 * k;
@@ -179,8 +221,12 @@ SolverResult GaussSeidelSolver::solve(const ContactProblem& problem, const Solve
         if (delta.squaredNorm() == 0.0)
           continue;
         p.segment<3>(3 * k) = p_new;
-        add_impulse_change(problem, j >= 0 ? &problem.patches[j] : nullptr, k, delta,
-                           products.rigid.data(), products.patch_product.data());
+        add_impulse_change(problem, compressed ? nullptr : patch, k, delta, products.rigid.data(),
+                           products.patch_product.data());
+        if (compressed)
+          patch->compressed->add_change(
+              k - patch->first_contact,
+              patch->node_rotation(k - patch->first_contact).transpose() * delta, compressed_[j]);
       }
     };
     if (listed)
