@@ -116,6 +116,8 @@ DistributedContact::DistributedContact(MPI_Comm communicator, const Triangulatio
   const auto assembly_start = std::chrono::steady_clock::now();
   assemble();
   lumped_areas();
+  if (settings_.linear_solver == ContactLinearSolver::gmres_gamg)
+    gamg_setup(); // last: nothing throws after the solver is created
   assembly_time_ = seconds_since(assembly_start);
 }
 
@@ -172,8 +174,6 @@ void DistributedContact::setup() {
   if (settings_.linear_solver != ContactLinearSolver::mumps)
     for (auto* vector : {&increment_, &newton_residual_})
       vector->reinit(owned_dofs_, communicator_);
-  if (settings_.linear_solver == ContactLinearSolver::gmres_gamg)
-    gamg_setup();
   ghosted_solution_.reinit(owned_dofs_, relevant_dofs_, communicator_);
   ghosted_traction_.reinit(owned_dofs_, relevant_dofs_, communicator_);
 
@@ -394,7 +394,7 @@ void DistributedContact::gamg_setup() {
   const std::size_t n_owned = owned_dofs_.n_elements();
   if (n_owned % 3 != 0 || first % 3 != 0)
     throw std::logic_error("static contact: owned dofs not in whole nodes");
-  dof_coordinates_.assign(n_owned, std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> coordinates(n_owned, std::numeric_limits<double>::quiet_NaN());
   const Quadrature<3> support(fe_.base_element(0).get_unit_support_points());
   FEValues<3> fe_values(mapping_, fe_, support, update_quadrature_points);
   std::vector<types::global_dof_index> dofs(fe_.n_dofs_per_cell());
@@ -410,13 +410,54 @@ void DistributedContact::gamg_setup() {
       const std::size_t local = dofs[i] - first;
       if (local % 3 != component)
         throw std::logic_error("static contact: a node's dofs are not x, y, z consecutive");
-      dof_coordinates_[local] = fe_values.quadrature_point(base_index)[component];
+      coordinates[local] = fe_values.quadrature_point(base_index)[component];
     }
   }
-  for (const double x : dof_coordinates_)
+  for (const double x : coordinates)
     if (!std::isfinite(x))
       throw std::logic_error("static contact: an owned dof lies on no owned cell");
-  check_petsc(MatSetBlockSize(system_, 3), "MatSetBlockSize");
+  // The six rigid-body modes, attached to the Newton matrix (kept by MatCopy of K into it).
+  const Mat matrix = system_;
+  check_petsc(MatSetBlockSize(matrix, 3), "MatSetBlockSize");
+  Vec coordinate_vector = nullptr;
+  MatNullSpace rigid_modes = nullptr;
+  check_petsc(VecCreateMPI(communicator_, static_cast<PetscInt>(n_owned), PETSC_DETERMINE,
+                           &coordinate_vector),
+              "VecCreateMPI");
+  check_petsc(VecSetBlockSize(coordinate_vector, 3), "VecSetBlockSize");
+  PetscScalar* x = nullptr;
+  check_petsc(VecGetArray(coordinate_vector, &x), "VecGetArray");
+  std::copy(coordinates.begin(), coordinates.end(), x);
+  check_petsc(VecRestoreArray(coordinate_vector, &x), "VecRestoreArray");
+  const PetscErrorCode code = MatNullSpaceCreateRigidBody(coordinate_vector, &rigid_modes);
+  VecDestroy(&coordinate_vector);
+  check_petsc(code, "MatNullSpaceCreateRigidBody");
+  const PetscErrorCode set = MatSetNearNullSpace(matrix, rigid_modes);
+  MatNullSpaceDestroy(&rigid_modes);
+  check_petsc(set, "MatSetNearNullSpace");
+  // GMRES(200) + GAMG, kept over the Newton iterations and solves: the aggregates and
+  // prolongators of the first system are reused (the systems differ in the contact rows only),
+  // the Galerkin products recomputed. PETSc options with the prefix contact_ (e.g.
+  // -contact_pc_gamg_threshold 0.02) adjust it.
+  check_petsc(KSPCreate(communicator_, &ksp_), "KSPCreate");
+  check_petsc(KSPSetOptionsPrefix(ksp_, "contact_"), "KSPSetOptionsPrefix");
+  check_petsc(KSPSetType(ksp_, KSPGMRES), "KSPSetType");
+  check_petsc(KSPGMRESSetRestart(ksp_, 200), "KSPGMRESSetRestart");
+  check_petsc(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+  check_petsc(KSPSetPCSide(ksp_, PC_RIGHT), "KSPSetPCSide");
+  check_petsc(
+      KSPSetTolerances(ksp_, settings_.linear_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 5000),
+      "KSPSetTolerances");
+  PC pc = nullptr;
+  check_petsc(KSPGetPC(ksp_, &pc), "KSPGetPC");
+  check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
+  check_petsc(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
+  check_petsc(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+}
+
+DistributedContact::~DistributedContact() {
+  if (ksp_ != nullptr)
+    KSPDestroy(&ksp_);
 }
 
 void DistributedContact::linear_solve() {
@@ -458,59 +499,19 @@ void DistributedContact::iterative_solve() {
     }
     report_.linear_iterations += control.last_step();
   } else {
-    // GMRES(200) + GAMG; PETSc options with the prefix contact_ (e.g.
-    // -contact_pc_gamg_threshold 0.02) adjust it.
     const Mat matrix = system_;
-    Vec coordinates = nullptr;
-    MatNullSpace rigid_modes = nullptr;
-    KSP ksp = nullptr;
-    const auto cleanup = [&] {
-      KSPDestroy(&ksp);
-      MatNullSpaceDestroy(&rigid_modes);
-      VecDestroy(&coordinates);
-    };
-    try {
-      check_petsc(VecCreateMPI(communicator_, static_cast<PetscInt>(dof_coordinates_.size()),
-                               PETSC_DETERMINE, &coordinates),
-                  "VecCreateMPI");
-      check_petsc(VecSetBlockSize(coordinates, 3), "VecSetBlockSize");
-      PetscScalar* x = nullptr;
-      check_petsc(VecGetArray(coordinates, &x), "VecGetArray");
-      std::copy(dof_coordinates_.begin(), dof_coordinates_.end(), x);
-      check_petsc(VecRestoreArray(coordinates, &x), "VecRestoreArray");
-      check_petsc(MatNullSpaceCreateRigidBody(coordinates, &rigid_modes),
-                  "MatNullSpaceCreateRigidBody");
-      check_petsc(MatSetNearNullSpace(matrix, rigid_modes), "MatSetNearNullSpace");
-      check_petsc(KSPCreate(communicator_, &ksp), "KSPCreate");
-      check_petsc(KSPSetOptionsPrefix(ksp, "contact_"), "KSPSetOptionsPrefix");
-      check_petsc(KSPSetOperators(ksp, matrix, matrix), "KSPSetOperators");
-      check_petsc(KSPSetType(ksp, KSPGMRES), "KSPSetType");
-      check_petsc(KSPGMRESSetRestart(ksp, 200), "KSPGMRESSetRestart");
-      check_petsc(
-          KSPSetTolerances(ksp, settings_.linear_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 5000),
-          "KSPSetTolerances");
-      check_petsc(KSPSetNormType(ksp, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
-      check_petsc(KSPSetPCSide(ksp, PC_RIGHT), "KSPSetPCSide");
-      PC pc = nullptr;
-      check_petsc(KSPGetPC(ksp, &pc), "KSPGetPC");
-      check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
-      check_petsc(KSPSetFromOptions(ksp), "KSPSetFromOptions");
-      const Vec b = newton_residual_, du = increment_;
-      check_petsc(KSPSolve(ksp, b, du), "KSPSolve");
-      KSPConvergedReason reason;
-      PetscInt iterations = 0;
-      PetscReal residual = 0;
-      check_petsc(KSPGetConvergedReason(ksp, &reason), "KSPGetConvergedReason");
-      check_petsc(KSPGetIterationNumber(ksp, &iterations), "KSPGetIterationNumber");
-      check_petsc(KSPGetResidualNorm(ksp, &residual), "KSPGetResidualNorm");
-      if (reason < 0)
-        fail(iterations, residual);
-      report_.linear_iterations += iterations;
-    } catch (...) {
-      cleanup();
-      throw;
-    }
-    cleanup();
+    const Vec b = newton_residual_, du = increment_;
+    check_petsc(KSPSetOperators(ksp_, matrix, matrix), "KSPSetOperators");
+    check_petsc(KSPSolve(ksp_, b, du), "KSPSolve");
+    KSPConvergedReason reason;
+    PetscInt iterations = 0;
+    PetscReal residual = 0;
+    check_petsc(KSPGetConvergedReason(ksp_, &reason), "KSPGetConvergedReason");
+    check_petsc(KSPGetIterationNumber(ksp_, &iterations), "KSPGetIterationNumber");
+    check_petsc(KSPGetResidualNorm(ksp_, &residual), "KSPGetResidualNorm");
+    if (reason < 0)
+      fail(iterations, residual);
+    report_.linear_iterations += iterations;
   }
   solution_ += increment_;
 }

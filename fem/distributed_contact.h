@@ -44,6 +44,7 @@
 #include <deal.II/lac/petsc_vector.h>
 
 #include <mpi.h>
+#include <petscksp.h>
 
 #include <array>
 #include <string>
@@ -111,6 +112,9 @@ public:
   ///   no face.
   DistributedContact(MPI_Comm communicator, const dealii::Triangulation<3>& coarse,
                      const MaterialTable& materials, const DistributedContactSettings& settings);
+  ~DistributedContact();
+  DistributedContact(const DistributedContact&) = delete;
+  DistributedContact& operator=(const DistributedContact&) = delete;
 
   /// Solves the contact problem for the foot motion @p foot (see above); the previous solution
   /// is not used. @throws std::runtime_error "static contact: ... after N iterations ..." if the
@@ -169,7 +173,8 @@ private:
   /// Evaluates lambda = K u, the node states and the residual of the current u.
   double evaluate();
   void build_system(const RigidMotion& foot);
-  /// GAMG: checks the dofs come in x, y, z nodes, stores their coordinates, block size 3.
+  /// GAMG: checks the dofs come in x, y, z nodes, attaches the rigid-body modes from their
+  /// coordinates to the Newton matrix (block size 3) and creates the solver.
   void gamg_setup();
   void linear_solve();
   /// GMRES on the increment: solution_ += du, A du = rhs_ - A solution_.
@@ -186,8 +191,7 @@ private:
   dealii::PETScWrappers::MPI::SparseMatrix stiffness_, system_;
   dealii::PETScWrappers::MPI::Vector solution_, forces_, rhs_, constrained_values_;
   dealii::PETScWrappers::MPI::Vector increment_, newton_residual_; ///< GMRES only
-  /// GAMG only: the owned dofs' support point coordinate (its component), m.
-  std::vector<double> dof_coordinates_;
+  KSP ksp_ = nullptr; ///< GMRES + GAMG, kept over the solves (gmres_gamg only)
   dealii::PETScWrappers::MPI::Vector ghosted_solution_, ghosted_traction_;
   std::vector<Node> contact_nodes_, top_nodes_;
   std::vector<double> contact_areas_;     ///< A_k per owned contact node, m^2
