@@ -79,9 +79,11 @@ void StaticContactParameters::declare(dealii::ParameterHandler& prm) {
                     "largest nodal contact force, (0, 1e-2].");
   prm.declare_entry("Maximum iterations", std::to_string(d.max_iterations), Integer(1, 1000),
                     "Semismooth Newton iterations before the solve is reported failed, [1, 1000].");
-  prm.declare_entry("Linear solver", "mumps", Selection("mumps|gmres amg"),
-                    "Each Newton system: mumps (sparse direct, PETSc) or gmres amg (GMRES + "
-                    "BoomerAMG); docs/static_contact.md compares them.");
+  prm.declare_entry("Linear solver", "mumps", Selection("mumps|gmres amg|gmres gamg"),
+                    "Each Newton system: mumps (sparse direct, PETSc), gmres amg (GMRES + "
+                    "BoomerAMG on the Newton increment) or gmres gamg (GMRES + PETSc's GAMG "
+                    "with the rigid-body modes, memory linear in the DoF); "
+                    "docs/static_contact.md compares them.");
 }
 
 void StaticContactParameters::parse(dealii::ParameterHandler& prm) {

@@ -16,11 +16,13 @@
 #include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/numerics/vector_tools.h>
 
+#include <petscksp.h>
 #include <petscmat.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -87,7 +89,9 @@ ContactLinearSolver parse_contact_linear_solver(const std::string& text,
     return ContactLinearSolver::mumps;
   if (text == "gmres amg")
     return ContactLinearSolver::gmres_amg;
-  throw std::invalid_argument(parameter + " = '" + text + "': allowed mumps|gmres amg");
+  if (text == "gmres gamg")
+    return ContactLinearSolver::gmres_gamg;
+  throw std::invalid_argument(parameter + " = '" + text + "': allowed mumps|gmres amg|gmres gamg");
 }
 
 DistributedContact::DistributedContact(MPI_Comm communicator, const Triangulation<3>& coarse,
@@ -112,6 +116,8 @@ DistributedContact::DistributedContact(MPI_Comm communicator, const Triangulatio
   const auto assembly_start = std::chrono::steady_clock::now();
   assemble();
   lumped_areas();
+  if (settings_.linear_solver == ContactLinearSolver::gmres_gamg)
+    gamg_setup(); // last: nothing throws after the solver is created
   assembly_time_ = seconds_since(assembly_start);
 }
 
@@ -165,6 +171,9 @@ void DistributedContact::setup() {
   check_petsc(MatSetOption(system_, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE), "MatSetOption");
   for (auto* vector : {&solution_, &forces_, &rhs_, &constrained_values_})
     vector->reinit(owned_dofs_, communicator_);
+  if (settings_.linear_solver != ContactLinearSolver::mumps)
+    for (auto* vector : {&increment_, &newton_residual_})
+      vector->reinit(owned_dofs_, communicator_);
   ghosted_solution_.reinit(owned_dofs_, relevant_dofs_, communicator_);
   ghosted_traction_.reinit(owned_dofs_, relevant_dofs_, communicator_);
 
@@ -378,6 +387,79 @@ void DistributedContact::build_system(const RigidMotion& foot) {
               "MatZeroRows");
 }
 
+void DistributedContact::gamg_setup() {
+  // GAMG aggregates nodes (3 x 3 blocks) and needs each node's x, y, z dofs consecutive, and
+  // their coordinates for the rigid-body modes.
+  const types::global_dof_index first = owned_dofs_.nth_index_in_set(0);
+  const std::size_t n_owned = owned_dofs_.n_elements();
+  if (n_owned % 3 != 0 || first % 3 != 0)
+    throw std::logic_error("static contact: owned dofs not in whole nodes");
+  std::vector<double> coordinates(n_owned, std::numeric_limits<double>::quiet_NaN());
+  const Quadrature<3> support(fe_.base_element(0).get_unit_support_points());
+  FEValues<3> fe_values(mapping_, fe_, support, update_quadrature_points);
+  std::vector<types::global_dof_index> dofs(fe_.n_dofs_per_cell());
+  for (const auto& cell : dof_handler_.active_cell_iterators()) {
+    if (!cell->is_locally_owned())
+      continue;
+    fe_values.reinit(cell);
+    cell->get_dof_indices(dofs);
+    for (unsigned int i = 0; i < dofs.size(); ++i) {
+      if (!owned_dofs_.is_element(dofs[i]))
+        continue;
+      const auto [component, base_index] = fe_.system_to_component_index(i);
+      const std::size_t local = dofs[i] - first;
+      if (local % 3 != component)
+        throw std::logic_error("static contact: a node's dofs are not x, y, z consecutive");
+      coordinates[local] = fe_values.quadrature_point(base_index)[component];
+    }
+  }
+  for (const double x : coordinates)
+    if (!std::isfinite(x))
+      throw std::logic_error("static contact: an owned dof lies on no owned cell");
+  // The six rigid-body modes, attached to the Newton matrix (kept by MatCopy of K into it).
+  const Mat matrix = system_;
+  check_petsc(MatSetBlockSize(matrix, 3), "MatSetBlockSize");
+  Vec coordinate_vector = nullptr;
+  MatNullSpace rigid_modes = nullptr;
+  check_petsc(VecCreateMPI(communicator_, static_cast<PetscInt>(n_owned), PETSC_DETERMINE,
+                           &coordinate_vector),
+              "VecCreateMPI");
+  check_petsc(VecSetBlockSize(coordinate_vector, 3), "VecSetBlockSize");
+  PetscScalar* x = nullptr;
+  check_petsc(VecGetArray(coordinate_vector, &x), "VecGetArray");
+  std::copy(coordinates.begin(), coordinates.end(), x);
+  check_petsc(VecRestoreArray(coordinate_vector, &x), "VecRestoreArray");
+  const PetscErrorCode code = MatNullSpaceCreateRigidBody(coordinate_vector, &rigid_modes);
+  VecDestroy(&coordinate_vector);
+  check_petsc(code, "MatNullSpaceCreateRigidBody");
+  const PetscErrorCode set = MatSetNearNullSpace(matrix, rigid_modes);
+  MatNullSpaceDestroy(&rigid_modes);
+  check_petsc(set, "MatSetNearNullSpace");
+  // GMRES(200) + GAMG, kept over the Newton iterations and solves: the aggregates and
+  // prolongators of the first system are reused (the systems differ in the contact rows only),
+  // the Galerkin products recomputed. PETSc options with the prefix contact_ (e.g.
+  // -contact_pc_gamg_threshold 0.02) adjust it.
+  check_petsc(KSPCreate(communicator_, &ksp_), "KSPCreate");
+  check_petsc(KSPSetOptionsPrefix(ksp_, "contact_"), "KSPSetOptionsPrefix");
+  check_petsc(KSPSetType(ksp_, KSPGMRES), "KSPSetType");
+  check_petsc(KSPGMRESSetRestart(ksp_, 200), "KSPGMRESSetRestart");
+  check_petsc(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED), "KSPSetNormType");
+  check_petsc(KSPSetPCSide(ksp_, PC_RIGHT), "KSPSetPCSide");
+  check_petsc(
+      KSPSetTolerances(ksp_, settings_.linear_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, 5000),
+      "KSPSetTolerances");
+  PC pc = nullptr;
+  check_petsc(KSPGetPC(ksp_, &pc), "KSPGetPC");
+  check_petsc(PCSetType(pc, PCGAMG), "PCSetType");
+  check_petsc(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE), "PCGAMGSetReuseInterpolation");
+  check_petsc(KSPSetFromOptions(ksp_), "KSPSetFromOptions");
+}
+
+DistributedContact::~DistributedContact() {
+  if (ksp_ != nullptr)
+    KSPDestroy(&ksp_);
+}
+
 void DistributedContact::linear_solve() {
   if (settings_.linear_solver == ContactLinearSolver::mumps) {
     SolverControl control(1, 0);
@@ -385,22 +467,53 @@ void DistributedContact::linear_solve() {
     mumps.solve(system_, solution_, rhs_);
     return;
   }
-  SolverControl control(5000, settings_.linear_tolerance * rhs_.l2_norm());
-  PETScWrappers::SolverGMRES gmres(control, communicator_,
-                                   PETScWrappers::SolverGMRES::AdditionalData(200));
-  PETScWrappers::PreconditionBoomerAMG::AdditionalData data;
-  data.symmetric_operator = false;
-  data.strong_threshold = 0.5;
-  PETScWrappers::PreconditionBoomerAMG amg(system_, data);
-  try {
-    gmres.solve(system_, solution_, rhs_, amg);
-  } catch (const std::exception&) {
+  iterative_solve();
+}
+
+void DistributedContact::iterative_solve() {
+  // The Newton system's residual b - A u (on the Dirichlet rows c (value - u)).
+  system_.vmult(newton_residual_, solution_);
+  newton_residual_.sadd(-1.0, 1.0, rhs_);
+  increment_ = 0;
+  const double tolerance = settings_.linear_tolerance * newton_residual_.l2_norm();
+  const char* name =
+      settings_.linear_solver == ContactLinearSolver::gmres_amg ? "BoomerAMG" : "GAMG";
+  const auto fail = [&](PetscInt iterations, double residual) {
     std::ostringstream msg;
-    msg << "static contact: GMRES + BoomerAMG did not converge: " << control.last_step()
-        << " iterations, residual " << control.last_value() << " > " << control.tolerance();
+    msg << "static contact: GMRES + " << name << " did not converge: " << iterations
+        << " iterations, residual " << residual << " > " << tolerance;
     throw std::runtime_error(msg.str());
+  };
+  if (settings_.linear_solver == ContactLinearSolver::gmres_amg) {
+    SolverControl control(5000, tolerance);
+    PETScWrappers::SolverGMRES gmres(control, communicator_,
+                                     PETScWrappers::SolverGMRES::AdditionalData(200));
+    PETScWrappers::PreconditionBoomerAMG::AdditionalData data;
+    data.symmetric_operator = false;
+    data.strong_threshold = 0.5;
+    PETScWrappers::PreconditionBoomerAMG amg(system_, data);
+    try {
+      gmres.solve(system_, increment_, newton_residual_, amg);
+    } catch (const std::exception&) {
+      fail(control.last_step(), control.last_value());
+    }
+    report_.linear_iterations += control.last_step();
+  } else {
+    const Mat matrix = system_;
+    const Vec b = newton_residual_, du = increment_;
+    check_petsc(KSPSetOperators(ksp_, matrix, matrix), "KSPSetOperators");
+    check_petsc(KSPSolve(ksp_, b, du), "KSPSolve");
+    KSPConvergedReason reason;
+    PetscInt iterations = 0;
+    PetscReal residual = 0;
+    check_petsc(KSPGetConvergedReason(ksp_, &reason), "KSPGetConvergedReason");
+    check_petsc(KSPGetIterationNumber(ksp_, &iterations), "KSPGetIterationNumber");
+    check_petsc(KSPGetResidualNorm(ksp_, &residual), "KSPGetResidualNorm");
+    if (reason < 0)
+      fail(iterations, residual);
+    report_.linear_iterations += iterations;
   }
-  report_.linear_iterations += control.last_step();
+  solution_ += increment_;
 }
 
 const ContactSolveReport& DistributedContact::solve(const RigidMotion& foot) {

@@ -21,7 +21,11 @@
 // slip (g = 0, the linearised C_t = 0 with lambda_t in the Jacobian projected onto the cone).
 // Each Newton system is K with rows replaced: Dirichlet rows (top nodes; g = 0; s = 0) and, for
 // slip nodes, the two rows of the linearised C_t (combinations of the node's rows of K), solved
-// by MUMPS (PETSc, default) or GMRES + BoomerAMG. The iteration stops when
+// by MUMPS (PETSc, default) for the new u, or by GMRES for the increment du (A du = b - A u: the
+// right-hand side is the Newton system's residual, so that a relative tolerance stays
+// meaningful as u converges), preconditioned by BoomerAMG or by PETSc's GAMG (smoothed
+// aggregation on 3 x 3 nodal blocks with the six rigid-body modes from the dof coordinates as
+// its near null space). The iteration stops when
 //   r = max_k |(C_n, P_t)_k| <= tolerance max(max_k |lambda_k|, c x 1 nm),
 //   P_t = lambda_t - proj_{|.| <= mu xi_n+}(xi_t)     (N; 0 iff Coulomb's law holds),
 // and throws std::runtime_error naming the iteration and residual after max_iterations.
@@ -40,6 +44,7 @@
 #include <deal.II/lac/petsc_vector.h>
 
 #include <mpi.h>
+#include <petscksp.h>
 
 #include <array>
 #include <string>
@@ -58,8 +63,9 @@ struct RigidMotion {
 
 /// Linear solver of each Newton system.
 enum class ContactLinearSolver {
-  mumps,     ///< sparse direct LU (MUMPS through PETSc)
-  gmres_amg, ///< GMRES(200) + BoomerAMG, relative tolerance linear_tolerance
+  mumps,      ///< sparse direct LU (MUMPS through PETSc)
+  gmres_amg,  ///< GMRES(200) + BoomerAMG on the increment, relative tolerance linear_tolerance
+  gmres_gamg, ///< GMRES(200) + GAMG with the rigid-body modes, on the increment, same tolerance
 };
 
 struct DistributedContactSettings {
@@ -72,7 +78,7 @@ struct DistributedContactSettings {
   double tolerance = 1e-10;                         ///< relative, (0, 1e-2]
   unsigned int max_iterations = 50;                 ///< Newton iterations, [1, 1000]
   ContactLinearSolver linear_solver = ContactLinearSolver::mumps;
-  double linear_tolerance = 1e-12; ///< GMRES: ||r|| <= this ||b||
+  double linear_tolerance = 1e-8; ///< GMRES: ||b - A u - A du|| <= this ||b - A u||, (0, 1)
   /// Throws std::invalid_argument naming the field, its value and the allowed range.
   void validate() const;
 };
@@ -106,6 +112,9 @@ public:
   ///   no face.
   DistributedContact(MPI_Comm communicator, const dealii::Triangulation<3>& coarse,
                      const MaterialTable& materials, const DistributedContactSettings& settings);
+  ~DistributedContact();
+  DistributedContact(const DistributedContact&) = delete;
+  DistributedContact& operator=(const DistributedContact&) = delete;
 
   /// Solves the contact problem for the foot motion @p foot (see above); the previous solution
   /// is not used. @throws std::runtime_error "static contact: ... after N iterations ..." if the
@@ -144,12 +153,19 @@ public:
   double setup_time() const { return setup_time_; }       ///< s, wall (this rank)
   const ContactSolveReport& report() const { return report_; }
 
-private:
   /// A node of a boundary owned by this rank: its x, y, z dofs and unloaded position.
   struct Node {
     std::array<dealii::types::global_dof_index, 3> dofs;
-    dealii::Point<3> position;
+    dealii::Point<3> position; ///< m
   };
+  /// K (N/m, n_dofs x n_dofs, no boundary condition), distributed by owned dofs.
+  const dealii::PETScWrappers::MPI::SparseMatrix& stiffness_matrix() const { return stiffness_; }
+  /// The bottom (contact) nodes whose dofs this rank owns, sorted by x dof.
+  const std::vector<Node>& owned_contact_nodes() const { return contact_nodes_; }
+  /// The top (attached) nodes whose dofs this rank owns, sorted by x dof.
+  const std::vector<Node>& owned_attached_nodes() const { return top_nodes_; }
+
+private:
   std::vector<Node> owned_boundary_nodes(dealii::types::boundary_id boundary) const;
   void setup();
   void assemble();
@@ -157,7 +173,12 @@ private:
   /// Evaluates lambda = K u, the node states and the residual of the current u.
   double evaluate();
   void build_system(const RigidMotion& foot);
+  /// GAMG: checks the dofs come in x, y, z nodes, attaches the rigid-body modes from their
+  /// coordinates to the Newton matrix (block size 3) and creates the solver.
+  void gamg_setup();
   void linear_solve();
+  /// GMRES on the increment: solution_ += du, A du = rhs_ - A solution_.
+  void iterative_solve();
 
   MPI_Comm communicator_;
   const MaterialTable& materials_;
@@ -169,6 +190,8 @@ private:
   dealii::IndexSet owned_dofs_, relevant_dofs_;
   dealii::PETScWrappers::MPI::SparseMatrix stiffness_, system_;
   dealii::PETScWrappers::MPI::Vector solution_, forces_, rhs_, constrained_values_;
+  dealii::PETScWrappers::MPI::Vector increment_, newton_residual_; ///< GMRES only
+  KSP ksp_ = nullptr; ///< GMRES + GAMG, kept over the solves (gmres_gamg only)
   dealii::PETScWrappers::MPI::Vector ghosted_solution_, ghosted_traction_;
   std::vector<Node> contact_nodes_, top_nodes_;
   std::vector<double> contact_areas_;     ///< A_k per owned contact node, m^2
@@ -180,7 +203,8 @@ private:
   ContactSolveReport report_;
 };
 
-/// "mumps" or "gmres amg"; throws std::invalid_argument naming @p parameter otherwise.
+/// "mumps", "gmres amg" or "gmres gamg"; throws std::invalid_argument naming @p parameter
+/// otherwise.
 ContactLinearSolver parse_contact_linear_solver(const std::string& text,
                                                 const std::string& parameter);
 

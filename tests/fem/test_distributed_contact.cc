@@ -9,6 +9,8 @@
 //     sideways (mu = 0.5: part of the sole lifts off, part slips); at 2 ranks the solve equals
 //     the one on each rank alone (MPI_COMM_SELF) to 1e-10;
 // (c) force balance: the bottom nodes' forces and the foot's force sum to zero;
+// (d) GMRES on the Newton increment with BoomerAMG or GAMG (rigid-body modes) reaches the
+//     tolerance with the forces and node states of the MUMPS solve;
 // force control (fem/foot_load_control.h): the force and moments of a displacement-controlled
 // solve, given as the load, give back its displacement.
 #include "contact/contact_solver.h"
@@ -250,6 +252,51 @@ TEST(DistributedContact, TiltedFootEqualsCondensedReference) {
                   dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD), difference / max_force,
                   differing_states);
     EXPECT_LT(difference / max_force, 1e-10);
+    EXPECT_EQ(differing_states, 0u);
+  }
+}
+
+// The iterative solvers (GMRES on the Newton increment, BoomerAMG or GAMG with the rigid-body
+// modes) reach the tolerance of the MUMPS solve and its forces and node states.
+TEST(DistributedContact, IterativeSolversEqualMumps) {
+  RigidMotion foot;
+  foot.translation = Tensor<1, 3>({0.3e-3, 0.1e-3, -1.0e-3});
+  foot.rotation = Tensor<1, 3>({0.004, 0.015, 0});
+  foot.center = Point<3>(0, 0, thickness);
+  const MaterialTable materials{LinearElasticMaterial(E, nu)};
+  dealii::Triangulation<3> coarse;
+  make_sole(coarse, 8, 6, 1);
+  DistributedContactSettings settings;
+  settings.refinements = 1;
+  settings.friction = 0.5;
+  settings.tolerance = 1e-10;
+  DistributedContact direct(MPI_COMM_WORLD, coarse, materials, settings);
+  const auto direct_report = direct.solve(foot);
+  const auto reference = direct.gather_contact_nodes();
+  double max_force = 0;
+  for (const auto& node : reference)
+    max_force = std::max(max_force, node.force.norm());
+  for (const auto solver : {ContactLinearSolver::gmres_amg, ContactLinearSolver::gmres_gamg}) {
+    settings.linear_solver = solver;
+    DistributedContact iterative(MPI_COMM_WORLD, coarse, materials, settings);
+    const auto report = iterative.solve(foot);
+    const auto nodes = iterative.gather_contact_nodes();
+    ASSERT_EQ(nodes.size(), reference.size());
+    double difference = 0;
+    unsigned int differing_states = 0;
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      difference = std::max(difference, (nodes[k].force - reference[k].force).norm());
+      differing_states += nodes[k].state != reference[k].state;
+    }
+    if (rank0())
+      std::printf("%s: %u Newton iterations (MUMPS %u), %u GMRES iterations, residual %.2e; max "
+                  "|f - f_mumps| / max |f| = %.2e, %u states differ\n",
+                  solver == ContactLinearSolver::gmres_amg ? "GMRES + BoomerAMG" : "GMRES + GAMG",
+                  report.iterations, direct_report.iterations, report.linear_iterations,
+                  report.residual, difference / max_force, differing_states);
+    EXPECT_LE(report.residual, settings.tolerance);
+    EXPECT_GT(report.linear_iterations, report.iterations); // GMRES ran
+    EXPECT_LT(difference / max_force, 1e-8);
     EXPECT_EQ(differing_states, 0u);
   }
 }
