@@ -3,15 +3,18 @@
 // driven by the joint references Plantar recorded (joints.csv, columns <joint>_ref), one
 // record per step kept in memory like Plantar's time series, written after the loop.
 //
-//   mujoco_bench MODEL.xml JOINTS.csv WAIST.csv OUT.csv [--steps N]
+//   mujoco_bench MODEL.xml JOINTS.csv WAIST.csv OUT.csv [--steps N] [--fall-height H]
 //
-// The actuators are MuJoCo position servos (force kp (ctrl - q)) with the joint damping kv
-// (MuJoCo's Euler integrator treats joint damping implicitly): ctrl = q_ref + (kv / kp) v_ref
-// gives tau = kp (q_ref - q) + kv (v_ref - v), Plantar's PD law, v_ref = (q_ref,k - q_ref,k-1)
-// / dt as in apps/humanoid_simulation.cc. Initial state: the first reference row, the base at
-// WAIST.csv's first (x, y), identity orientation, the lowest contact point on z = 0, at rest.
-// Prints name,value lines: the loop's us per step and the physical figures (contact force sum
-// and weight, N; CoM and base heights, m), averaged over the last 0.5 s.
+// The actuators are MuJoCo position servos (force kp (ctrl - q)) with the joint damping
+// kd + dt kp, which MuJoCo's Euler integrator applies at the step's end velocity v+, and
+// ctrl = q_ref + (kd / kp) v_ref: tau = kp (q_ref - q) + kd v_ref - (kd + dt kp) v+, Plantar's
+// linear-implicit PD at theta = 1 (kp (q_ref - q+) + kd (v_ref - v+), q+ = q + dt v+;
+// multibody/stepper.h), v_ref = (q_ref,k - q_ref,k-1) / dt as in apps/humanoid_simulation.cc.
+// Initial state: the first reference row, the base at WAIST.csv's first (x, y), identity
+// orientation, the lowest contact point on z = 0, at rest. Prints name,value lines: the loop's us
+// per step and the physical figures (contact force sum and weight, N; CoM and base heights, m),
+// averaged over the last 0.5 s, and the time the base first went below H (default 0.4 m, the
+// scenes' Simulation/Fall height; -1: never) with the us per step before it.
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -66,15 +69,19 @@ Table read_csv(const std::string& file) {
 
 int run(int argc, char** argv) {
   if (argc < 5) {
-    std::cerr << "usage: mujoco_bench MODEL.xml JOINTS.csv WAIST.csv OUT.csv [--steps N]\n";
+    std::cerr << "usage: mujoco_bench MODEL.xml JOINTS.csv WAIST.csv OUT.csv [--steps N] "
+                 "[--fall-height H]\n";
     return 2;
   }
   const std::string model_file = argv[1], joints_file = argv[2], waist_file = argv[3],
                     out_file = argv[4];
   long max_steps = -1;
+  double fall_height = 0.4;
   for (int i = 5; i + 1 < argc; i += 2) {
     if (std::string(argv[i]) == "--steps")
       max_steps = std::atol(argv[i + 1]);
+    else if (std::string(argv[i]) == "--fall-height")
+      fall_height = std::atof(argv[i + 1]);
     else
       throw std::runtime_error(std::string("unknown option ") + argv[i]);
   }
@@ -90,14 +97,16 @@ int run(int argc, char** argv) {
   const Table waist = read_csv(waist_file);
   const int nu = m->nu;
   std::vector<int> ref_column(nu), qpos_index(nu), dof_index(nu);
-  std::vector<double> kv_over_kp(nu);
+  std::vector<double> kd(nu), kd_over_kp(nu);
   for (int a = 0; a < nu; ++a) {
     const int joint = m->actuator_trnid[2 * a];
     const std::string name = mj_id2name(m, mjOBJ_JOINT, joint);
     ref_column[a] = joints.column(name + "_ref", joints_file);
     qpos_index[a] = m->jnt_qposadr[joint];
     dof_index[a] = m->jnt_dofadr[joint];
-    kv_over_kp[a] = m->dof_damping[dof_index[a]] / m->actuator_gainprm[a * mjNGAIN];
+    const double kp = m->actuator_gainprm[a * mjNGAIN];
+    kd[a] = m->dof_damping[dof_index[a]] - dt * kp;
+    kd_over_kp[a] = kd[a] / kp;
   }
   const long n_steps =
       max_steps > 0 ? std::min<long>(max_steps, joints.rows.size()) : joints.rows.size();
@@ -108,7 +117,7 @@ int run(int argc, char** argv) {
     for (int a = 0; a < nu; ++a) {
       const double q_ref = row[ref_column[a]];
       const double v_ref = (q_ref - previous[ref_column[a]]) / dt;
-      ctrl[k * nu + a] = q_ref + kv_over_kp[a] * v_ref;
+      ctrl[k * nu + a] = q_ref + kd_over_kp[a] * v_ref;
     }
   }
 
@@ -135,7 +144,8 @@ int run(int argc, char** argv) {
   // contact force sum (world), number of contacts; every actuated joint's q, ctrl, force.
   const int n_fixed = 9, width = n_fixed + 3 * nu;
   std::vector<double> record(n_steps * width);
-  const int robot = 1; // the base body: its subtree is the robot
+  const int robot = 1;                  // the base body: its subtree is the robot
+  std::vector<double> elapsed(n_steps); // s since the start, after each step
   const auto start = std::chrono::steady_clock::now();
   for (long k = 0; k < n_steps; ++k) {
     std::copy_n(&ctrl[k * nu], nu, d->ctrl);
@@ -163,9 +173,9 @@ int run(int argc, char** argv) {
     for (int a = 0; a < nu; ++a) {
       r[n_fixed + 3 * a] = d->qpos[qpos_index[a]];
       r[n_fixed + 3 * a + 1] = d->ctrl[a];
-      r[n_fixed + 3 * a + 2] =
-          d->actuator_force[a] - m->dof_damping[dof_index[a]] * d->qvel[dof_index[a]];
+      r[n_fixed + 3 * a + 2] = d->actuator_force[a] - kd[a] * d->qvel[dof_index[a]]; // as Plantar
     }
+    elapsed[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -202,6 +212,13 @@ int run(int argc, char** argv) {
   double mass = 0;
   for (int b = 1; b < m->nbody; ++b)
     mass += m->body_mass[b];
+  double fall_time = -1;  // the first base height below fall_height (-1: none)
+  long upright = n_steps; // steps before the fall
+  for (long k = 0; k < n_steps && fall_time < 0; ++k)
+    if (record[k * width + 3] < fall_height) {
+      fall_time = record[k * width];
+      upright = std::max(1L, k);
+    }
 
   // Plantar's CoM height at its last recorded step (WAIST.csv pose, JOINTS.csv angles), by
   // MuJoCo's kinematics of the same model.
@@ -225,9 +242,11 @@ int run(int argc, char** argv) {
   mj_kinematics(m, d);
   mj_comPos(m, d);
   std::printf("us_per_step,%.4f\nn_steps,%ld\nweight,%.6f\ncontact_fz,%.6f\ncom_z,%.6f\n"
-              "base_z,%.6f\nmean_contacts,%.3f\nplantar_final_com_z,%.6f\n",
+              "base_z,%.6f\nmean_contacts,%.3f\nplantar_final_com_z,%.6f\nfall_time,%.4f\nus_per_"
+              "step_upright,%.4f\n",
               1e6 * seconds / n_steps, n_steps, -mass * m->opt.gravity[2], force, com_z, base_z,
-              contacts, d->subtree_com[3 * robot + 2]);
+              contacts, d->subtree_com[3 * robot + 2], fall_time,
+              1e6 * elapsed[upright - 1] / upright);
   mj_deleteData(d);
   mj_deleteModel(m);
   return 0;

@@ -12,12 +12,17 @@ gives the joint references (joints.csv); the MuJoCo model is generated from the 
     is the Plantar point ("points"), or one box per sole of the same outline ("box", MuJoCo's
     box-plane contact: up to 4 corners per foot);
   - Contact/Friction coefficient, elliptic cone, Newton solver, Simulation/Time step, Euler;
-  - the PD of Control (kp, kd) on every controlled joint: a position servo kp with joint
-    damping kd (MuJoCo integrates it implicitly) driven by ctrl = q_ref + kd/kp v_ref.
-Then R rounds, each running Plantar, MuJoCo (points) and MuJoCo (box) one after the other,
-pinned to core C (taskset). Plantar's time is its summary's loop_wall_time / n_steps (the
-whole step: reference, stepper, outputs into memory); MuJoCo's is its loop (mj_step and the
-same per-step records into memory); files are written after both loops.
+  - the PD of Control (kp, kd) on every controlled joint as Plantar integrates it (linear-
+    implicit, theta = 1: kp (q_ref - q+) + kd (v_ref - v+)): a position servo kp with joint
+    damping kd + dt kp (MuJoCo's Euler applies joint damping at v+) driven by
+    ctrl = q_ref + kd/kp v_ref.
+Then R rounds, each running Plantar (the scene as it is, with its ParaView frames every
+Output/VTK every steps and the .pvd collections rewritten at each frame), Plantar with the
+collections rewritten every 25 frames (Output/VTK collection every = 25), Plantar without
+ParaView frames (Output/Write VTU = false: the outputs MuJoCo's run has), MuJoCo (points) and
+MuJoCo (box) one after the other, pinned to core C (taskset). Plantar's time is its summary's loop_wall_time / n_steps (the whole step: reference,
+stepper, CSV rows into memory, ParaView frames); MuJoCo's is its loop (mj_step and the same
+per-step records into memory); CSV files are written after both loops.
 Prints a markdown table (median and [min, max] us per step) and the physical agreement: the
 contact force sum against the weight and the CoM and base heights, averaged over the last
 0.5 s; writes OUT_DIR/mujoco_compare.md and the generated models OUT_DIR/<scene>_<contacts>.xml.
@@ -144,7 +149,7 @@ def generate_mjcf(prm, contacts):
             if kind not in ("revolute", "continuous"):
                 raise SystemExit(f"mujoco_compare: joint {joint.get('name')} of type {kind}")
             axis = joint.find("axis").get("xyz")
-            damping = f' damping="{kd}"' if joint.get("name") in controlled else ""
+            damping = f' damping="{kd + dt * kp:.10g}"' if joint.get("name") in controlled else ""
             out.append(f'{indent}  <joint name="{joint.get("name")}" axis="{axis}"{damping}/>')
         inertial(link, indent + "  ")
         for child in children.get(link_name, []):
@@ -198,18 +203,23 @@ def last_mean(rows, key, seconds, dt):
     return sum(r[key] for r in window) / len(window)
 
 
-def run_plantar(build, scene, out_dir, core):
-    subprocess.run(["taskset", "-c", str(core), str(build / "apps" / "plantar"), "run", str(scene),
+def run_plantar(plantar, scene, out_dir, core):
+    subprocess.run(["taskset", "-c", str(core), str(plantar), "run", str(scene),
                     "-o", str(out_dir), "--no-figures"], check=True, stdout=subprocess.DEVNULL)
     summary = read_summary(out_dir / "summary.csv")
     return 1e6 * float(summary["loop_wall_time"]) / float(summary["n_steps"])
 
 
-def run_mujoco(build, model, plantar_dir, out_csv, core):
+def run_mujoco(build, model, plantar_dir, out_csv, core, fall_height):
     result = subprocess.run(["taskset", "-c", str(core), str(build / "bench" / "multibody" / "mujoco_bench"),
                              str(model), str(plantar_dir / "joints.csv"), str(plantar_dir / "waist.csv"),
-                             str(out_csv)], check=True, capture_output=True, text=True)
+                             str(out_csv), "--fall-height", str(fall_height)],
+                            check=True, capture_output=True, text=True)
     return {k: float(v) for k, v in (line.split(",") for line in result.stdout.split())}
+
+
+def fall(figures):
+    return "-" if figures["fall_time"] < 0 else f"{figures['fall_time']:.2f}"
 
 
 def spread(values):
@@ -225,6 +235,8 @@ def main():
     parser.add_argument("--scenes", default="stand,walk")
     parser.add_argument("--walk-tolerance", type=float, default=1e-4,
                         help="also the walk at this Contact/Tolerance (0: not)")
+    parser.add_argument("--plantar-reference", type=pathlib.Path,
+                        help="another plantar program (e.g. an earlier build) run in each round too")
     args = parser.parse_args()
     build = args.build.resolve()
     out = args.out.resolve()
@@ -249,14 +261,28 @@ def main():
         for contacts in ("points", "box"):
             models[contacts] = out / f"{tag}_{contacts}.xml"
             models[contacts].write_text(generate_mjcf(prm, contacts))
-        times = {"plantar": [], "points": [], "box": []}
+        times = {"plantar": [], "plantar_pvd25": [], "plantar_no_vtk": [], "points": [], "box": [],
+                 "reference": [],
+                 "points_upright": [], "box_upright": []}
         figures = {}
         plantar_dir = out / f"{tag}_plantar"
+        no_vtk = out / f"{tag}_no_vtk.prm"
+        no_vtk.write_text(f"include {scene}\nsubsection Output\n  set Write VTU = false\nend\n")
+        pvd25 = out / f"{tag}_pvd25.prm"
+        pvd25.write_text(f"include {scene}\nsubsection Output\n  set VTK collection every = 25\nend\n")
         for _ in range(args.repeat):
-            times["plantar"].append(run_plantar(build, scene, plantar_dir, args.core))
+            plantar = build / "apps" / "plantar"
+            times["plantar"].append(run_plantar(plantar, scene, plantar_dir, args.core))
+            times["plantar_pvd25"].append(run_plantar(plantar, pvd25, out / f"{tag}_plantar_pvd25", args.core))
+            times["plantar_no_vtk"].append(run_plantar(plantar, no_vtk, out / f"{tag}_plantar_no_vtk", args.core))
+            if args.plantar_reference:
+                times["reference"].append(run_plantar(args.plantar_reference.resolve(), scene,
+                                                      out / f"{tag}_plantar_reference", args.core))
             for contacts, model in models.items():
-                result = run_mujoco(build, model, plantar_dir, out / f"{tag}_{contacts}.csv", args.core)
+                result = run_mujoco(build, model, plantar_dir, out / f"{tag}_{contacts}.csv", args.core,
+                                    float(prm["Simulation/Fall height"]))
                 times[contacts].append(result["us_per_step"])
+                times[contacts + "_upright"].append(result["us_per_step_upright"])
                 figures[contacts] = result
         dt = float(prm["Simulation/Time step"])
         contacts_rows = read_table(plantar_dir / "contacts.csv")
@@ -273,26 +299,39 @@ def main():
         print(f"{label}: done", file=sys.stderr)
 
     text = []
-    text.append("| scene | Plantar (16 points) | MuJoCo, 16 points | MuJoCo, box feet |")
-    text.append("| --- | --- | --- | --- |")
+    reference = " | Plantar, --plantar-reference" if args.plantar_reference else ""
+    text.append("| scene | Plantar, 16 points | Plantar, .pvd every 25 frames | Plantar, no ParaView "
+                f"frames | MuJoCo, 16 points | MuJoCo, box feet{reference} |")
+    text.append("| --- | --- | --- | --- | --- | --- |" + (" --- |" if reference else ""))
     for r in rows:
         t = r["times"]
-        text.append(f"| {r['label']} | {spread(t['plantar'])} | {spread(t['points'])} | {spread(t['box'])} |")
+        text.append(f"| {r['label']} | {spread(t['plantar'])} | {spread(t['plantar_pvd25'])} | "
+                    f"{spread(t['plantar_no_vtk'])} | {spread(t['points'])} | {spread(t['box'])} |" +
+                    (f" {spread(t['reference'])} |" if reference else ""))
     text.append("")
     text.append("us per step, median [min, max] of %d alternating runs on core %d." % (args.repeat, args.core))
+    for r in rows:
+        p, bx = r["mujoco"]["points"], r["mujoco"]["box"]
+        if p["fall_time"] >= 0 or bx["fall_time"] >= 0:
+            text.append(f"{r['label']}: MuJoCo's robot falls (below Simulation/Fall height) at "
+                        f"{fall(p)} s (points) / {fall(bx)} s (box); before the fall "
+                        f"{spread(r['times']['points_upright'])} / {spread(r['times']['box_upright'])} us per step.")
     text.append("")
     text.append("| scene | weight (N) | contact force z (N): Plantar / MuJoCo points / box | "
                 "CoM height (m): Plantar / points / box | base height (m): Plantar / points / box | "
-                "contacts: Plantar / points / box |")
-    text.append("| --- | --- | --- | --- | --- | --- |")
+                "contacts: Plantar / points / box | MuJoCo falls at (s): points / box |")
+    text.append("| --- | --- | --- | --- | --- | --- | --- |")
     for r in rows:
         p, bx = r["mujoco"]["points"], r["mujoco"]["box"]
         text.append(f"| {r['label']} | {r['weight']:.2f} | {r['plantar_fz']:.2f} / {p['contact_fz']:.2f} / "
                     f"{bx['contact_fz']:.2f} | {r['plantar_com_z']:.4f} / {p['com_z']:.4f} / {bx['com_z']:.4f} | "
                     f"{r['plantar_base_z']:.4f} / {p['base_z']:.4f} / {bx['base_z']:.4f} | "
-                    f"{r['plantar_contacts']:.1f} / {p['mean_contacts']:.1f} / {bx['mean_contacts']:.1f} |")
+                    f"{r['plantar_contacts']:.1f} / {p['mean_contacts']:.1f} / {bx['mean_contacts']:.1f} | "
+                    f"{fall(p)} / {fall(bx)} |")
     text.append("")
-    text.append("Averages over the last 0.5 s (Plantar's CoM: its last step, by MuJoCo's kinematics).")
+    text.append("Averages over the last 0.5 s (Plantar's CoM: its last step, by MuJoCo's kinematics); "
+                "Plantar's run stops with an error if the robot falls (Simulation/Fall height), "
+                "MuJoCo's goes on (its time per step then covers fewer contacts).")
     load = os.getloadavg()
     text.append(f"Load average before the table was printed: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}.")
     report = "\n".join(text) + "\n"
