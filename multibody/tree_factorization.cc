@@ -20,21 +20,6 @@ TreeFactorization::TreeFactorization(const Model& model)
       parent_[first + k] = first + k - 1;
     }
   }
-  run_start_.assign(1, 0);
-  for (int i = 0; i < model.nv; ++i) {
-    std::vector<int> chain; // strict ancestors, descending
-    for (int j = parent_[i]; j >= 0; j = parent_[j]) {
-      chain.push_back(j);
-    }
-    for (auto j = chain.rbegin(); j != chain.rend(); ++j) {
-      if (run_.size() > static_cast<std::size_t>(run_start_.back()) && run_.back().second == *j) {
-        ++run_.back().second;
-      } else {
-        run_.emplace_back(*j, *j + 1);
-      }
-    }
-    run_start_.push_back(static_cast<int>(run_.size()));
-  }
 }
 
 bool TreeFactorization::compute(const Eigen::Ref<const Eigen::MatrixXd>& a) {
@@ -45,11 +30,8 @@ bool TreeFactorization::compute(const Eigen::Ref<const Eigen::MatrixXd>& a) {
   // eliminate dof k from its ancestors i: A_ji -= (A_ik / d_k) A_jk for j ancestor of i.
   double* f = factor_.data();
   for (int k = 0; k < n; ++k) { // A_jk for j = k and its ancestors: the entries L and D use
-    f[k + n * k] = a(k, k);
-    for (int q = run_start_[k]; q < run_start_[k + 1]; ++q) {
-      for (int j = run_[q].first; j < run_[q].second; ++j) {
-        f[j + n * k] = a(j, k);
-      }
+    for (int j = k; j >= 0; j = parent_[j]) {
+      f[j + n * k] = a(j, k);
     }
   }
   for (int k = n - 1; k >= 0; --k) {
@@ -58,19 +40,14 @@ bool TreeFactorization::compute(const Eigen::Ref<const Eigen::MatrixXd>& a) {
       return false;
     }
     double* column_k = f + n * k;
-    // The ancestors i of k in descending order: column_k[j] for j < i is still A_jk.
-    for (int r = run_start_[k + 1] - 1; r >= run_start_[k]; --r) {
-      for (int i = run_[r].second - 1; i >= run_[r].first; --i) {
-        const double ratio = column_k[i] / dk;
-        double* column_i = f + n * i;
-        column_i[i] -= ratio * column_k[i];
-        for (int q = run_start_[i]; q < run_start_[i + 1]; ++q) {
-          for (int j = run_[q].first; j < run_[q].second; ++j) {
-            column_i[j] -= ratio * column_k[j];
-          }
-        }
-        column_k[i] = ratio;
+    // The ancestors i of k from k up: column_k[j] for j < i is still A_jk.
+    for (int i = parent_[k]; i >= 0; i = parent_[i]) {
+      const double ratio = column_k[i] / dk;
+      double* column_i = f + n * i;
+      for (int j = i; j >= 0; j = parent_[j]) {
+        column_i[j] -= ratio * column_k[j];
       }
+      column_k[i] = ratio;
     }
     sqrt_d_[k] = std::sqrt(dk);
   }
@@ -90,10 +67,8 @@ void TreeFactorization::half_solve_in_place(Eigen::Ref<Eigen::MatrixXd> x) const
         continue;
       }
       const double* column_i = f + n * i;
-      for (int q = run_start_[i]; q < run_start_[i + 1]; ++q) {
-        for (int j = run_[q].first; j < run_[q].second; ++j) {
-          xc[j] -= column_i[j] * xi;
-        }
+      for (int j = parent_[i]; j >= 0; j = parent_[j]) {
+        xc[j] -= column_i[j] * xi;
       }
     }
     for (int i = 0; i < n; ++i) {
@@ -115,10 +90,8 @@ void TreeFactorization::half_solve_transpose_in_place(Eigen::Ref<Eigen::MatrixXd
     for (int i = 0; i < n; ++i) {
       const double* column_i = f + n * i;
       double sum = xc[i];
-      for (int q = run_start_[i]; q < run_start_[i + 1]; ++q) {
-        for (int j = run_[q].first; j < run_[q].second; ++j) {
-          sum -= column_i[j] * xc[j];
-        }
+      for (int j = parent_[i]; j >= 0; j = parent_[j]) {
+        sum -= column_i[j] * xc[j];
       }
       xc[i] = sum;
     }

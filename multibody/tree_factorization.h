@@ -18,7 +18,6 @@
 #include "multibody/model.h"
 
 #include <Eigen/Core>
-#include <utility>
 #include <vector>
 
 namespace plantar::multibody {
@@ -51,13 +50,8 @@ public:
 
 private:
   std::vector<int> parent_; // parent dof, -1 for a root
-  // The strict ancestors of dof i as runs of consecutive dofs [begin, end), ascending:
-  // run_[run_start_[i]] .. run_[run_start_[i + 1] - 1] (a chain's dofs are consecutive, so
-  // the inner loops are contiguous: a few runs per dof, e.g. the base's and the leg's).
-  std::vector<std::pair<int, int>> run_;
-  std::vector<int> run_start_;
-  Eigen::MatrixXd factor_; // L (strict lower) and D (diagonal)
-  Eigen::VectorXd sqrt_d_; // D^1/2
+  Eigen::MatrixXd factor_;  // L (strict lower) and D (diagonal)
+  Eigen::VectorXd sqrt_d_;  // D^1/2
 };
 
 } // namespace plantar::multibody
