@@ -25,7 +25,8 @@ HumanoidSummary run_humanoid(const Scene& scene, const std::filesystem::path& ou
   std::unique_ptr<SceneVtkWriter> vtk; // Output/Write VTU: the ParaView series from t = 0
   if (scene.output.write_vtu) {
     vtk = std::make_unique<SceneVtkWriter>(simulation, scene.robot.urdf_file,
-                                           scene.output.vtk_stick_radius, output);
+                                           scene.output.vtk_stick_radius, output,
+                                           scene.output.vtk_collection_every);
     vtk->write(simulation);
     simulation.set_output_hook(scene.output.vtk_every,
                                [&vtk](const HumanoidSimulation& s) { vtk->write(s); });
@@ -48,6 +49,8 @@ HumanoidSummary run_humanoid(const Scene& scene, const std::filesystem::path& ou
       simulation.write_csv(output / "failed");
     throw;
   }
+  if (vtk)
+    vtk->finish();
   if (scene.output.write_csv)
     simulation.write_csv(output);
   return simulation.summary();

@@ -32,6 +32,9 @@ struct OutputParameters {
   bool write_csv = true; ///< humanoid scenes: CSV time series
   int output_every = 1;  ///< humanoid scenes: one CSV row every this many steps, >= 1
   int vtk_every = 40;    ///< humanoid scenes: one ParaView frame every this many steps, >= 1
+  /// Humanoid scenes: rewrite the .pvd collections every this many frames (and after the last
+  /// frame, also of a failed run), >= 1.
+  int vtk_collection_every = 1;
   double vtk_stick_radius = 0.02; ///< m, radius of the links drawn as sticks
   /// Hz, [0, 1e4]: cut-off of the waist accelerometer's second-order Butterworth low-pass
   /// (apps/butterworth_low_pass.h); 0, or at or above the Nyquist frequency 1 / (2 dt): raw

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <optional>
+#include <stdexcept>
 
 namespace plantar::app {
 namespace {
@@ -27,8 +28,11 @@ std::string frame_name(const std::string& stem, int frame) {
 
 SceneVtkWriter::SceneVtkWriter(const HumanoidSimulation& simulation,
                                const std::filesystem::path& urdf_file, double stick_radius,
-                               const std::filesystem::path& directory)
-    : directory_(directory), data_(simulation.model()) {
+                               const std::filesystem::path& directory, int collection_every)
+    : directory_(directory), data_(simulation.model()), collection_every_(collection_every) {
+  if (collection_every < 1)
+    throw std::invalid_argument(
+        "Output/VTK collection every = " + std::to_string(collection_every) + ": must be >= 1");
   shapes_ = make_link_shapes(simulation.model(), urdf_file, stick_radius);
   has_soles_ = simulation.foot_model().has_fields();
   for (int i = 0; i < simulation.pads().size(); ++i)
@@ -90,7 +94,17 @@ void SceneVtkWriter::write_terrain(const HumanoidSimulation& simulation) const {
   });
 }
 
-SceneVtkWriter::~SceneVtkWriter() = default;
+SceneVtkWriter::~SceneVtkWriter() {
+  try {
+    finish();
+  } catch (...) { // already unwinding or finished: the frames themselves are written
+  }
+}
+
+void SceneVtkWriter::finish() {
+  if (collection_frames_ != n_frames())
+    write_pvd();
+}
 
 void SceneVtkWriter::write(const HumanoidSimulation& simulation) {
   const int frame = n_frames();
@@ -106,10 +120,12 @@ void SceneVtkWriter::write(const HumanoidSimulation& simulation) {
   for (int i = 0; i < static_cast<int>(pads_.size()); ++i)
     simulation.pads().write_fields(i, data_, directory_ / frame_name(pads_[i], frame));
   times_.push_back(simulation.time());
-  write_pvd();
+  if (n_frames() - collection_frames_ >= collection_every_)
+    write_pvd();
 }
 
-void SceneVtkWriter::write_pvd() const {
+void SceneVtkWriter::write_pvd() {
+  collection_frames_ = n_frames();
   auto write = [&](const std::string& name, const std::vector<std::string>& stems,
                    bool with_terrain) {
     fem::write_file_atomically(directory_ / name, [&](std::ostream& out) {

@@ -31,8 +31,9 @@
 // <directory>/{links,sole_right,sole_left,pad_<name>}.pvd   one time series each
 // <directory>/scene.pvd      all parts (0 links, then right and left sole, then the pads, then
 //     the terrain: the same file at every time)
-// The .pvd files are rewritten (atomically) at every frame: a run that fails keeps a
-// readable series of the frames written so far. Frames allocate (output steps only).
+// The .pvd files are rewritten (atomically) every collection_every frames and by finish() (and
+// the destructor): a run that fails keeps a readable series of the frames written so far.
+// Frames allocate (output steps only).
 
 #include "apps/humanoid_simulation.h"
 #include "apps/scene_vtk_links.h"
@@ -50,18 +51,23 @@ class SceneVtkWriter {
 public:
   /// Prepares the link shapes (@p urdf_file: the model's URDF; @p stick_radius, m, > 0) and
   /// asks @p simulation's foot model whether it has sole fields; creates <directory>/vtk.
+  /// @p collection_every (>= 1): the .pvd files are rewritten every this many frames.
   SceneVtkWriter(const HumanoidSimulation& simulation, const std::filesystem::path& urdf_file,
-                 double stick_radius, const std::filesystem::path& directory);
+                 double stick_radius, const std::filesystem::path& directory,
+                 int collection_every = 1);
+  /// Calls finish(), ignoring its errors (a run being unwound by an exception).
   ~SceneVtkWriter();
 
   /// Writes the frame of @p simulation's current state (time simulation.time()).
   void write(const HumanoidSimulation& simulation);
+  /// Rewrites the .pvd files if frames were written since their last rewrite.
+  void finish();
   /// The terrain surface's grid file, relative to the directory.
   static constexpr const char* terrain_file = "terrain.vts";
   int n_frames() const { return static_cast<int>(times_.size()); }
 
 private:
-  void write_pvd() const;
+  void write_pvd();
   /// terrain.vts (atomically) over the feet of @p simulation at t = 0 and planned at the end.
   void write_terrain(const HumanoidSimulation& simulation) const;
 
@@ -72,6 +78,8 @@ private:
   bool has_terrain_ = false;      ///< terrain.vts written (not the default ground z = 0)
   std::vector<std::string> pads_; ///< "pad_<name>" per pad
   std::vector<double> times_;
+  int collection_every_ = 1;
+  int collection_frames_ = 0; ///< frames in the .pvd files on disk
 };
 
 } // namespace plantar::app

@@ -63,6 +63,9 @@ void Stepper::resize_workspaces() {
   const int nv = model_.nv;
   const int max = parameters_.max_contacts;
   effective_mass_.setZero(nv, nv);
+  factorization_ = TreeFactorization(model_);
+  dense_factor_.setZero(parameters_.tree_factorization ? 0 : nv,
+                        parameters_.tree_factorization ? 0 : nv);
   rhs_.setZero(nv);
   v_free_.setZero(nv);
   dv_.setZero(nv);
@@ -92,10 +95,31 @@ void Stepper::resize_workspaces() {
   active_points_.reserve(points_.size());
 }
 
+bool Stepper::factor_effective_mass() {
+  if (parameters_.tree_factorization)
+    return factorization_.compute(effective_mass_);
+  // Eigen's unblocked kernel (at nv ~ 40 faster than LLT::compute's blocked one).
+  dense_factor_ = effective_mass_;
+  return Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(dense_factor_) < 0;
+}
+
+void Stepper::half_solve(Eigen::Ref<Eigen::MatrixXd> x) const {
+  if (parameters_.tree_factorization)
+    factorization_.half_solve_in_place(x); // on the nonzero rows' ancestors only
+  else
+    dense_factor_.triangularView<Eigen::Lower>().solveInPlace(x);
+}
+
+void Stepper::half_solve_transpose(Eigen::Ref<Eigen::MatrixXd> x) const {
+  if (parameters_.tree_factorization)
+    factorization_.half_solve_transpose_in_place(x);
+  else
+    dense_factor_.triangularView<Eigen::Lower>().transpose().solveInPlace(x);
+}
+
 void Stepper::solve_effective_mass(Eigen::VectorXd& x) const {
-  const auto l = effective_mass_.triangularView<Eigen::Lower>();
-  l.solveInPlace(x);
-  l.transpose().solveInPlace(x);
+  half_solve(x);
+  half_solve_transpose(x);
 }
 
 int Stepper::add_body_slot(int body) {
@@ -111,6 +135,14 @@ int Stepper::add_body_slot(int body) {
     slot_impulse_.push_back(Vector6d::Zero());
     slot_factored_.push_back(0);
     slot_reduced_.emplace_back();
+    std::vector<int> dofs;
+    for (int j = body; j > 0; j = model_.parent[j]) {
+      for (int k = model_.nv_joint[j] - 1; k >= 0; --k) {
+        dofs.push_back(model_.idx_v[j] + k);
+      }
+    }
+    std::reverse(dofs.begin(), dofs.end());
+    slot_dofs_.push_back(dofs);
   }
   return body_slot_[body];
 }
@@ -215,9 +247,9 @@ Eigen::Vector3d Stepper::to_world(int point, const Eigen::Vector3d& c) const {
 
 void Stepper::fill_contact_rows(int k, int point) {
   const int s = body_slot_[points_[point].body];
-  // Rows S(r) (J_b L^-T) with S(r) = R_c^T [I, -[r]x], contact frame rows n = z, t1 = x,
+  // Rows S(r) (J_b U^-T) with S(r) = R_c^T [I, -[r]x], contact frame rows n = z, t1 = x,
   // t2 = y, written out (the zeros of S skipped): row n = H_2 + r_y H_3 - r_x H_4,
-  // t1 = H_0 + r_z H_4 - r_y H_5, t2 = H_1 - r_z H_3 + r_x H_5, H = J_b L^-T.
+  // t1 = H_0 + r_z H_4 - r_y H_5, t2 = H_1 - r_z H_3 + r_x H_5, H = J_b U^-T.
   const Eigen::Vector3d& r = lever_[point];
   const Eigen::Matrix<double, 6, Eigen::Dynamic>& h =
       reduce_rigid_ ? slot_reduced_[s] : slot_factor_t_[s];
@@ -252,10 +284,26 @@ void Stepper::reduce_rigid_factor() {
   const int r = static_cast<int>(reduced_slots_.size());
   const int size = 6 * r;
   auto gram = reduced_gram_.topLeftCorner(size, size);
-  for (int i = 0; i < r; ++i) {
+  // H_i H_j^T over the rows where both are nonzero: the common ancestors' dofs (both lists
+  // ascend from the root, so they share a prefix). The dense factor fills in: all rows.
+  for (int i = 0; i < r && !parameters_.tree_factorization; ++i) {
     for (int j = 0; j <= i; ++j) {
       gram.block<6, 6>(6 * i, 6 * j).noalias() =
           slot_factor_t_[reduced_slots_[i]] * slot_factor_[reduced_slots_[j]];
+    }
+  }
+  for (int i = 0; i < r && parameters_.tree_factorization; ++i) {
+    const std::vector<int>& dofs_i = slot_dofs_[reduced_slots_[i]];
+    const Eigen::Matrix<double, 6, Eigen::Dynamic>& h_i = slot_factor_t_[reduced_slots_[i]];
+    for (int j = 0; j <= i; ++j) {
+      const std::vector<int>& dofs_j = slot_dofs_[reduced_slots_[j]];
+      const Eigen::Matrix<double, 6, Eigen::Dynamic>& h_j = slot_factor_t_[reduced_slots_[j]];
+      Eigen::Matrix<double, 6, 6> block = Eigen::Matrix<double, 6, 6>::Zero();
+      const std::size_t common = std::min(dofs_i.size(), dofs_j.size());
+      for (std::size_t k = 0; k < common && dofs_i[k] == dofs_j[k]; ++k) {
+        block.noalias() += h_i.col(dofs_i[k]) * h_j.col(dofs_i[k]).transpose();
+      }
+      gram.block<6, 6>(6 * i, 6 * j) = block;
     }
   }
   const double largest = gram.diagonal().maxCoeff();
@@ -411,9 +459,8 @@ void Stepper::free_motion(const Eigen::Ref<const Eigen::VectorXd>& q,
       rhs_.noalias() += slot_jacobian_[s].transpose() * slot_impulse_[s];
     }
   }
-  // M_eff = L L^T in place (Eigen's unblocked kernel: at nv ~ 40 faster than LLT::compute's
-  // blocked one, same algorithm).
-  if (Eigen::internal::llt_inplace<double, Eigen::Lower>::unblocked(effective_mass_) >= 0) {
+  // M_eff = U U^T: along the tree (M_eff has M's sparsity: the gains are diagonal) or dense.
+  if (!factor_effective_mass()) {
     throw std::runtime_error("Stepper::step: M + dt D + dt^2 K is not positive definite "
                              "(check the model's inertias and the gains)");
   }
@@ -483,13 +530,13 @@ void Stepper::assemble(int n, const Eigen::Ref<const Eigen::VectorXd>& v) {
   const double dt = parameters_.time_step;
   const double theta = parameters_.theta;
   const double theta_dt = theta * dt;
-  // L^-1 J_b^T once per body in contact; the reduced rigid factor over those bodies.
+  // U^-1 J_b^T once per body in contact; the reduced rigid factor over those bodies.
   reduced_slots_.clear();
   for (int k = 0; k < n; ++k) {
     const int s = body_slot_[points_[active_points_[k]].body];
     if (!slot_factored_[s]) {
       slot_factor_[s] = slot_jacobian_[s].transpose();
-      effective_mass_.triangularView<Eigen::Lower>().solveInPlace(slot_factor_[s]);
+      half_solve(slot_factor_[s]);
       slot_factor_t_[s] = slot_factor_[s].transpose();
       slot_factored_[s] = 1;
       reduced_slots_.push_back(s);
@@ -548,7 +595,7 @@ void Stepper::apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v) {
     v = v_free_;
     return;
   }
-  // v+ = v_free + L^-T (G^T p), G^T p = sum over bodies of (L^-1 J_b^T) (sum of S^T p).
+  // v+ = v_free + U^-T (G^T p), G^T p = sum over bodies of (U^-1 J_b^T) (sum of S^T p).
   for (auto& impulse : slot_impulse_) {
     impulse.setZero();
   }
@@ -564,7 +611,7 @@ void Stepper::apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v) {
       dv_.noalias() += slot_factor_[s] * slot_impulse_[s];
     }
   }
-  effective_mass_.triangularView<Eigen::Lower>().transpose().solveInPlace(dv_);
+  half_solve_transpose(dv_);
   v_mid_ = (1.0 - theta) * v + theta * (v_free_ + dv_); // v_theta
   v = v_free_ + dv_;
 }

@@ -13,7 +13,7 @@
 //   + theta^2 dt^2 K                    (linear-implicit) r     = M v + dt (tau - b(q, v) + K
 //   (q_ref,theta - q - theta (1-theta) dt v)
 //                     + D (v_ref - (1-theta) v)) + (1-theta) dt J_s^T F_s,prev
-//   M_eff v_free = r,  M_eff = L L^T
+//   M_eff v_free = r,  M_eff = U U^T (U = L^T D^1/2: multibody/tree_factorization.h)
 //   v+ = v_free + M_eff^-1 J^T p,   p the contact impulses (N s) of the contact problem
 //   q+ = q (+) dt v_theta                                         (configuration.h)
 // Nodes of a deformable patch (a condensed pad: contact::DeformablePatch, e.g. coupling::
@@ -31,7 +31,7 @@
 // Contact problem (contact/contact_problem.h), rows in each contact's frame R_c = [n t1 t2] at
 // its point (contact/terrain.h: the terrain's normal and tangents at the point's (x, y); on
 // flat ground (n, t1, t2) = (z, x, y), contact/ground_frame.h, with the rows written out):
-// J_c = R_c^T [I, -[r]x] J_b the point Jacobians, G = J_c L^-T (so G G^T = J_c M_eff^-1 J_c^T),
+// J_c = R_c^T [I, -[r]x] J_b the point Jacobians, G = J_c U^-T (so G G^T = J_c M_eff^-1 J_c^T),
 // v_free,c = J_c v_free, b = contact::normal_bias: restitution e v_n^- for a bouncing impact,
 // gap/dt for a contact activated before touching (gap > 0, so that it lands on the plane
 // instead of stopping above it, and no deeper), else the position correction.
@@ -46,7 +46,7 @@
 // A step reads: free_motion (dynamics), select_candidates, assemble, the contact solve,
 // apply_impulses, then each patch's finish_step and the integration of q.
 // Cost: the rows of all candidates fixed to one body come from that body's 6 x nv Jacobian
-// J_b and one triangular solve L^-1 J_b^T per body and step.
+// J_b and one sparse triangular solve U^-1 J_b^T per body and step (on the body's ancestors).
 //
 // After construction and the add_* calls, step() allocates nothing (tested with Eigen's
 // malloc guard, except inside Eigen's blocked Cholesky of a patch block larger than about
@@ -61,6 +61,7 @@
 #include "multibody/data.h"
 #include "multibody/model.h"
 #include "multibody/pd_gains.h"
+#include "multibody/tree_factorization.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -74,6 +75,9 @@ struct StepperParameters {
   int max_contacts = 64;   ///< size of the contact problem, [0, 100000]
   /// Linear-implicit joint PD and passive springs (default). False: explicit (comparison only).
   bool implicit_gains = true;
+  /// Factor M_eff along the kinematic tree (default, multibody/tree_factorization.h). False:
+  /// Eigen's dense Cholesky M_eff = L L^T (the same step up to round-off; comparison only).
+  bool tree_factorization = true;
   /// Evaluate the bias forces C(q, v) v + G(q) at v_mid = (v + v_free) / 2 (one more RNEA
   /// and triangular solve) instead of at v as in eq. 4. Second order in the gyroscopic and
   /// transport terms: removes most of the first-order energy drift of fast free rotations.
@@ -98,8 +102,8 @@ struct StepperParameters {
 
 /// Wall seconds (steady_clock) spent in the phases of Stepper::step since the last reset.
 struct StepProfile {
-  double dynamics = 0;      ///< CRBA, RNEA, Cholesky of M_eff, v_free, v+, integration
-  double contact_build = 0; ///< candidate Jacobians and gaps, G = J L^-T, v_free,c, bias
+  double dynamics = 0;      ///< CRBA, RNEA, factorization of M_eff, v_free, v+, integration
+  double contact_build = 0; ///< candidate Jacobians and gaps, G = J U^-T, v_free,c, bias
   double sole_update = 0;   ///< patch blocks A C A^T / dt^2, deformation-rate term, U_c
   double contact_solve = 0; ///< contact::ContactSolver::solve
   long n_steps = 0;
@@ -187,15 +191,19 @@ private:
 
   void resize_workspaces();
   int add_body_slot(int body);
-  /// x <- M_eff^-1 x from the factor in effective_mass_.
+  /// Factors M_eff = U U^T; false if it is not positive definite.
+  bool factor_effective_mass();
+  /// x <- M_eff^-1 x, x <- U^-1 x and x <- U^-T x (@p x nv x k).
   void solve_effective_mass(Eigen::VectorXd& x) const;
+  void half_solve(Eigen::Ref<Eigen::MatrixXd> x) const;
+  void half_solve_transpose(Eigen::Ref<Eigen::MatrixXd> x) const;
   /// Gap, frame, lever r = p - o_b and normal velocities (at v and v_free) of candidate
   /// @p point; returns the normal free velocity.
   double evaluate_candidate(int point, double extra_gap);
   /// Row block k (3 rows) of G and v_free,c for candidate @p point.
   void fill_contact_rows(int k, int point);
   /// Rigid factor with 6 columns per contact body: G_k = S_k Z_b, Z Z^T = H H^T, H the
-  /// stacked J_b L^-T of the bodies in contact (semi-definite Cholesky).
+  /// stacked J_b U^-T of the bodies in contact (semi-definite Cholesky).
   void reduce_rigid_factor();
   /// The phases of step().
   void free_motion(const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -229,17 +237,21 @@ private:
   int n_patch_points_ = 0;
 
   // Workspaces (sized once).
-  Eigen::MatrixXd effective_mass_; // M_eff, then its Cholesky factor L in the lower triangle
+  Eigen::MatrixXd effective_mass_;  // M_eff
+  TreeFactorization factorization_; // M_eff = L^T D L = U U^T
+  Eigen::MatrixXd dense_factor_;    // tree_factorization = false: U = L, M_eff = L L^T
   Eigen::VectorXd rhs_, v_free_, dv_, bias_start_, v_mid_;
   // Per body carrying candidates ("slot"): the contact rows of its points are S(r) J_b with
   // J_b its 6 x nv Jacobian (body_origin_jacobian) and S(r) = R_c^T [I, -[r]x] (3 x 6).
   std::vector<int> body_slot_;                                          // per body, -1: none
   std::vector<int> slot_body_;                                          // per slot
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_jacobian_; // J_b
-  std::vector<Eigen::MatrixXd> slot_factor_;                            // L^-1 J_b^T, nv x 6
-  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_factor_t_; // J_b L^-T
+  std::vector<Eigen::MatrixXd> slot_factor_;                            // U^-1 J_b^T, nv x 6
+  std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_factor_t_; // J_b U^-T
   std::vector<Vector6d> slot_velocity_, slot_free_velocity_, slot_impulse_;
   std::vector<char> slot_factored_; // slot_factor_ computed this step
+  // Per slot: its body's ancestor dofs, ascending (where J_b^T and U^-1 J_b^T are nonzero).
+  std::vector<std::vector<int>> slot_dofs_;
   // Reduced rigid factor (when 6 x slots < nv): Z Z^T = H H^T over the slots in contact.
   bool reduce_rigid_ = false;
   Eigen::MatrixXd reduced_gram_;   // 6 S x 6 S, H H^T then Z (lower)

@@ -10,6 +10,7 @@
 #include "multibody/kinematics.h"
 #include "multibody/rnea.h"
 #include "multibody/stepper.h"
+#include "multibody/tree_factorization.h"
 #include "multibody/urdf_loader.h"
 
 #include <Eigen/Cholesky>
@@ -128,6 +129,21 @@ void BM_EffectiveMassCholeskyUnblocked(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_EffectiveMassCholeskyUnblocked)->Unit(benchmark::kMicrosecond);
+
+/// The same with the tree factorization L^T D L (multibody/tree_factorization.h), as
+/// Stepper::step does by default.
+void BM_EffectiveMassTreeFactorization(benchmark::State& state) {
+  const Model& model = hrp2(false);
+  const Eigen::MatrixXd m_eff = effective_mass(model);
+  TreeFactorization tree(model);
+  Eigen::VectorXd x = random_state(model, model.nv, 2);
+  for (auto _ : state) {
+    tree.compute(m_eff);
+    tree.solve_in_place(x);
+    benchmark::DoNotOptimize(x.data());
+  }
+}
+BENCHMARK(BM_EffectiveMassTreeFactorization)->Unit(benchmark::kMicrosecond);
 
 /// Full steps of the robot standing under PD control: range(0) = 0 without contacts (in the
 /// air), 1 with 8 rigid sole-corner contacts, 2 on two compliant patches of 9 x 7 nodes (the
