@@ -5,8 +5,10 @@
 // - the six-step walk with the stabilizer completes in the three foot forms, the soles at
 //   their planned positions;
 // - Stabilizer = none is the PD playback bit for bit: the first 2 s of the rigid walk's waist
-//   series equal (==, 17 digits) those written by the commit before the stabilizer
-//   (66393ee, tests/apps/data/walk_rigid_2s_waist_66393ee.csv), sensor noise set or not.
+//   series equal (==, 17 digits) those recorded by `plantar run` with Stabilizer = none
+//   (tests/apps/data/walk_rigid_2s_waist_tree.csv), sensor noise set or not. The recording
+//   was first made by the commit before the stabilizer (66393ee) and re-made when the tree
+//   factorisation of M_eff (multibody/tree_factorization.h) changed the round-off.
 #include "apps/humanoid_simulation.h"
 #include "tests/allocation_counter.h"
 #include "tests/apps/humanoid_test_utilities.h"
@@ -43,7 +45,7 @@ std::vector<std::vector<double>> read_numbers(const std::string& path) {
 
 TEST(StabilizerNone, IsThePdPlaybackBitForBit) {
   const auto recorded = read_numbers(std::string(PLANTAR_SOURCE_DIR) +
-                                     "/tests/apps/data/walk_rigid_2s_waist_66393ee.csv");
+                                     "/tests/apps/data/walk_rigid_2s_waist_tree.csv");
   ASSERT_EQ(recorded.size(), 200u);
   for (const bool noisy_sensors : {false, true}) {
     std::vector<std::pair<std::string, std::string>> overrides{{"Robot/Foot form", "rigid"},
@@ -65,7 +67,7 @@ TEST(StabilizerNone, IsThePdPlaybackBitForBit) {
     for (int i = 0; i < waist.n_rows(); ++i)
       for (int j = 0; j < columns; ++j)
         differing += waist(i, j) == recorded[i][j] ? 0 : 1;
-    std::printf("Stabilizer = none%s: %d of %d waist values differ from 66393ee's\n",
+    std::printf("Stabilizer = none%s: %d of %d waist values differ from the recording\n",
                 noisy_sensors ? " (sensor noise, delay, ground truth set)" : "", differing,
                 waist.n_rows() * columns);
     EXPECT_EQ(differing, 0);

@@ -18,6 +18,7 @@ frame, against quantities computed elsewhere:
     ground after deformation (Signorini, within the position-correction penetration) and
     inside the friction cone; in the last frame both feet carry the robot's weight (URDF
     masses) within 10 %.
+The linear case is run again with Output/VTK collection every = 2: the same .pvd files at the end.
 Exit status 0 on success, 1 with the failed checks listed.
 """
 import argparse
@@ -241,6 +242,24 @@ def main():
     linear = run_case(args.plantar, source, work / "linear", "test_vtk_output.prm", 0.2, 1e-5)
     hyper = run_case(args.plantar, source, work / "hyperelastic",
                      "test_vtk_output_hyperelastic.prm", 0.15, 0.02)
+    # Output/VTK collection every = 2: the .pvd collections rewritten every second frame and
+    # after the last one end the same, byte for byte, as when rewritten at every frame.
+    decimated = work / "collection_every"
+    shutil.rmtree(decimated, ignore_errors=True)
+    decimated.mkdir(parents=True)
+    (decimated / "scene.prm").write_text(
+        "include tests/apps/test_vtk_output.prm\n"
+        "subsection Output\n  set VTK collection every = 2\nend\n")
+    run = subprocess.run([args.plantar, "run", str(decimated / "scene.prm"), "-o",
+                          str(decimated / "out"), "--no-figures"], capture_output=True, text=True)
+    if check(run.returncode == 0, f"VTK collection every = 2: exit {run.returncode}"):
+        for name in ["scene.pvd", "links.pvd", "sole_right.pvd", "sole_left.pvd"]:
+            same = ((decimated / "out" / name).read_bytes() ==
+                    (work / "linear" / name).read_bytes())
+            check(same, f"VTK collection every = 2: {name} differs from every = 1")
+        print("VTK collection every = 2: the four .pvd files equal every = 1's")
+    else:
+        print(run.stdout, run.stderr)
     if linear and hyper:
         # Same sole, small strains (|u| / thickness ~ 3e-3): the Cauchy von Mises of the
         # Neo-Hookean sole is the linear sole's (same E, nu) to O(strain) plus the difference
