@@ -9,6 +9,7 @@
 #include "coupling/condensed_sole.h"
 #include "fem/distributed_condensation.h"
 #include "fem/distributed_contact.h"
+#include "tests/fem/sole_box_grid.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_generator.h>
@@ -32,16 +33,7 @@ namespace {
 constexpr double length = 0.2172, width = 0.138, thickness = 0.02;
 
 void make_sole(dealii::Triangulation<3>& tria, unsigned int refinements) {
-  dealii::GridGenerator::subdivided_hyper_rectangle(tria, {11, 7, 1},
-                                                    Point<3>(-length / 2, -width / 2, 0),
-                                                    Point<3>(length / 2, width / 2, thickness));
-  for (const auto& cell : tria.active_cell_iterators())
-    for (const auto& face : cell->face_iterators())
-      if (face->at_boundary()) {
-        const double z = face->center()[2];
-        face->set_boundary_id(std::abs(z) < 1e-12 ? 1 : std::abs(z - thickness) < 1e-12 ? 0 : 2);
-      }
-  tria.refine_global(refinements);
+  fem::test::make_sole_box(tria, 11, 7, 1, refinements);
 }
 
 double since(std::chrono::steady_clock::time_point start) {

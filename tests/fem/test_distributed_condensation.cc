@@ -6,6 +6,7 @@
 #include "coupling/condensed_sole.h"
 #include "fem/distributed_condensation.h"
 #include "fem/distributed_contact.h"
+#include "tests/fem/sole_box_grid.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_generator.h>
@@ -29,18 +30,8 @@ bool rank0() {
   return dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 }
 
-/// The sole box [-L/2, L/2] x [-W/2, W/2] x [0, T], bottom id 1, top id 0, sides 2.
 void make_sole(dealii::Triangulation<3>& tria, unsigned int refinements) {
-  dealii::GridGenerator::subdivided_hyper_rectangle(tria, {8, 6, 2},
-                                                    Point<3>(-length / 2, -width / 2, 0),
-                                                    Point<3>(length / 2, width / 2, thickness));
-  for (const auto& cell : tria.active_cell_iterators())
-    for (const auto& face : cell->face_iterators())
-      if (face->at_boundary()) {
-        const double z = face->center()[2];
-        face->set_boundary_id(std::abs(z) < 1e-12 ? 1 : std::abs(z - thickness) < 1e-12 ? 0 : 2);
-      }
-  tria.refine_global(refinements);
+  fem::test::make_sole_box(tria, 8, 6, 2, refinements);
 }
 
 std::tuple<long long, long long, long long> key(double x, double y, double z) {

@@ -19,6 +19,7 @@
 #include "fem/distributed_contact.h"
 #include "fem/foot_load_control.h"
 #include "fem/linear_elasticity.h"
+#include "tests/fem/sole_box_grid.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_generator.h>
@@ -44,20 +45,9 @@ bool rank0() {
   return dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
 }
 
-/// The sole box [-L/2, L/2] x [-W/2, W/2] x [0, T], bottom (id 1) on the ground z = 0, top id 0,
-/// sides 2; n_x x n_y x n_z hexahedra, refined @p refinements times.
 void make_sole(dealii::Triangulation<3>& tria, unsigned int n_x, unsigned int n_y, unsigned int n_z,
                unsigned int refinements = 0) {
-  dealii::GridGenerator::subdivided_hyper_rectangle(tria, {n_x, n_y, n_z},
-                                                    Point<3>(-length / 2, -width / 2, 0),
-                                                    Point<3>(length / 2, width / 2, thickness));
-  for (const auto& cell : tria.active_cell_iterators())
-    for (const auto& face : cell->face_iterators())
-      if (face->at_boundary()) {
-        const double z = face->center()[2];
-        face->set_boundary_id(std::abs(z) < 1e-12 ? 1 : std::abs(z - thickness) < 1e-12 ? 0 : 2);
-      }
-  tria.refine_global(refinements);
+  fem::test::make_sole_box(tria, n_x, n_y, n_z, refinements);
 }
 
 std::tuple<long long, long long> xy_key(const Point<3>& p) {
