@@ -4,9 +4,7 @@
 // (Ceil(L/h) + 1)(Ceil(W/h) + 1)) for decreasing mesh size h.
 // Prints wall-clock seconds per stage and the memory kept. A timing app, not
 // a test: it never passes or fails. Usage: condensation_bench [h1 h2 ...] (m).
-#include "coupling/condensed_sole.h"
-#include "fem/mesh_generator.h"
-#include "fem/mesh_import.h"
+#include "bench/coupling/sole_box_condensation.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -16,21 +14,6 @@
 using namespace plantar;
 
 namespace {
-
-coupling::CondensedSole build(double mesh_size, int block_size) {
-  fem::MeshRequest request;
-  request.geo_file = std::filesystem::path(PLANTAR_SOURCE_DIR) / "meshes" / "sole_box.geo";
-  request.numbers = {{"SoleMeshSize", mesh_size}, {"SoleHex", 1}};
-  request.cache_directory = std::filesystem::current_path() / "mesh-cache";
-  dealii::Triangulation<3> tria;
-  const auto groups = fem::import_mesh(fem::generate_mesh(request), {"top", "bottom"}, tria);
-  const fem::MaterialTable materials(fem::LinearElasticMaterial(4e6, 0.3, "rubber"));
-  coupling::CondensationParameters parameters;
-  parameters.attached_boundary = groups.surface("top");
-  parameters.contact_boundary = groups.surface("bottom");
-  parameters.block_size = block_size;
-  return coupling::CondensedSole(tria, materials, parameters);
-}
 
 double megabytes(std::size_t bytes) {
   return static_cast<double>(bytes) / (1024.0 * 1024.0);
@@ -51,7 +34,7 @@ int main(int argc, char** argv) {
               "assembly", "factor", "3n_c solv", "K_nn fac", "total s", "K fac MB", "C MB",
               "K_nn MB", "sparse MB", "kept MB");
   for (const double h : sizes) {
-    const auto sole = build(h, 64);
+    const auto sole = bench::condense_sole_box(h, 64);
     const auto& t = sole.timings();
     const auto& m = sole.memory();
     std::printf("%7.4f %6d %7d | %8.3f %8.3f %9.3f %8.3f %8.3f | %9.1f %8.1f %8.1f %8.1f %9.1f\n",
@@ -65,7 +48,7 @@ int main(int argc, char** argv) {
   const double h = 0.008;
   std::printf("\nBlock size of the 3 n_c solves, h = %.3f m\n%6s %10s\n", h, "block", "solves s");
   for (const int block : {1, 16, 64, 256}) {
-    const auto sole = build(h, block);
+    const auto sole = bench::condense_sole_box(h, block);
     std::printf("%6d %10.3f\n", block, sole.timings().contact_solves);
     std::fflush(stdout);
   }

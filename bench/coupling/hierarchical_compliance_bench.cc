@@ -5,11 +5,9 @@
 // meshes/sole_box.geo (0.2172 x 0.138 x 0.02 m, Q1, E = 4 MPa, nu = 0.3), top face bonded.
 // A timing app, not a test: prints a table, never passes or fails.
 // Usage: hierarchical_compliance_bench [h1 h2 ...] (m).
+#include "bench/coupling/sole_box_condensation.h"
 #include "contact/contact_solver.h"
 #include "contact/hierarchical_compliance.h"
-#include "coupling/condensed_sole.h"
-#include "fem/mesh_generator.h"
-#include "fem/mesh_import.h"
 
 #include <chrono>
 #include <cstdio>
@@ -23,20 +21,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-coupling::CondensedSole build(double mesh_size) {
-  fem::MeshRequest request;
-  request.geo_file = std::filesystem::path(PLANTAR_SOURCE_DIR) / "meshes" / "sole_box.geo";
-  request.numbers = {{"SoleMeshSize", mesh_size}, {"SoleHex", 1}};
-  request.cache_directory = std::filesystem::current_path() / "mesh-cache";
-  dealii::Triangulation<3> tria;
-  const auto groups = fem::import_mesh(fem::generate_mesh(request), {"top", "bottom"}, tria);
-  const fem::MaterialTable materials(fem::LinearElasticMaterial(4e6, 0.3, "rubber"));
-  coupling::CondensationParameters parameters;
-  parameters.attached_boundary = groups.surface("top");
-  parameters.contact_boundary = groups.surface("bottom");
-  return coupling::CondensedSole(tria, materials, parameters);
 }
 
 // A 60 kg rigid foot (inertia 0.2, 0.5, 0.6 kg m^2 about its centre 5 cm above the sole's
@@ -124,7 +108,7 @@ int main(int argc, char** argv) {
               "sweeps", "H s", "sweeps", "|dp|/|p|");
   for (const double h : sizes) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto sole = build(h);
+    const auto sole = bench::condense_sole_box(h);
     const double condensation = seconds_since(t0);
     const Eigen::MatrixXd& c = sole.compliance();
     const Eigen::MatrixX3d& nodes = sole.contact_positions();

@@ -6,6 +6,7 @@
 // mesh serially (coupling::CondensedSole, CHOLMOD) after the measurement and prints the max
 // relative difference of the two C.
 //   mpirun -np R distributed_condensation_bench REFINEMENTS [BLOCK_SIZE (128)] [--serial]
+#include "bench/fem/peak_memory.h"
 #include "coupling/condensed_sole.h"
 #include "fem/distributed_condensation.h"
 #include "fem/distributed_contact.h"
@@ -30,20 +31,12 @@ using dealii::Point;
 
 namespace {
 
-constexpr double length = 0.2172, width = 0.138, thickness = 0.02;
-
 void make_sole(dealii::Triangulation<3>& tria, unsigned int refinements) {
   fem::test::make_sole_box(tria, 11, 7, 1, refinements);
 }
 
 double since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-double peak_megabytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0; // kB on Linux
 }
 
 } // namespace
@@ -80,7 +73,7 @@ int main(int argc, char** argv) {
   const double assembly = dealii::Utilities::MPI::max(problem.assembly_time(), comm);
   const double factorization = dealii::Utilities::MPI::max(condensed.timings().factorization, comm);
   const double solves = dealii::Utilities::MPI::max(condensed.timings().contact_solves, comm);
-  const double memory = dealii::Utilities::MPI::max(peak_megabytes(), comm);
+  const double memory = dealii::Utilities::MPI::max(bench::peak_megabytes(), comm);
   const double factor_rank = dealii::Utilities::MPI::max(condensed.factor_megabytes_rank(), comm);
   const std::size_t n = 3 * condensed.n_contact_nodes();
   const double c_rank_mb =

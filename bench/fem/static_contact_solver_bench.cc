@@ -6,7 +6,9 @@
 // foot pressed 0.15 mm, tilted 0.002 rad, pushed 0.05 mm, mu = 0.5, tolerance 1e-10.
 //   mpirun -np R static_contact_solver_bench REFINEMENTS mumps|amg|gamg [LINEAR_TOLERANCE]
 //                                            [NODES_CSV]
+#include "bench/fem/peak_memory.h"
 #include "fem/distributed_contact.h"
+#include "tests/fem/sole_box_grid.h"
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/grid/grid_generator.h>
@@ -24,17 +26,7 @@ using namespace plantar;
 using dealii::Point;
 using dealii::Tensor;
 
-namespace {
-
-constexpr double length = 0.2172, width = 0.138, thickness = 0.02;
-
-double peak_megabytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss / 1024.0; // kB on Linux
-}
-
-} // namespace
+namespace {} // namespace
 
 int main(int argc, char** argv) {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
@@ -58,20 +50,12 @@ int main(int argc, char** argv) {
   settings.tolerance = 1e-10;
   settings.max_iterations = 100;
   dealii::Triangulation<3> coarse;
-  dealii::GridGenerator::subdivided_hyper_rectangle(coarse, {11, 7, 1},
-                                                    Point<3>(-length / 2, -width / 2, 0),
-                                                    Point<3>(length / 2, width / 2, thickness));
-  for (const auto& cell : coarse.active_cell_iterators())
-    for (const auto& face : cell->face_iterators())
-      if (face->at_boundary()) {
-        const double z = face->center()[2];
-        face->set_boundary_id(std::abs(z) < 1e-12 ? 1 : std::abs(z - thickness) < 1e-12 ? 0 : 2);
-      }
+  fem::test::make_sole_box(coarse, 11, 7, 1);
   const fem::MaterialTable materials{fem::LinearElasticMaterial(4e6, 0.3)};
   fem::RigidMotion foot;
   foot.translation = Tensor<1, 3>({0.05e-3, 0, -0.15e-3});
   foot.rotation = Tensor<1, 3>({0, 0.002, 0});
-  foot.center = Point<3>(0, 0, thickness);
+  foot.center = Point<3>(0, 0, fem::test::sole_thickness);
   const auto start = std::chrono::steady_clock::now();
   fem::DistributedContact problem(comm, coarse, materials, settings);
   try {
@@ -92,7 +76,7 @@ int main(int argc, char** argv) {
     iteration_time += t / report.iteration_times.size();
   const double setup = max(problem.setup_time()), assembly = max(problem.assembly_time());
   const double solve = max(report.solve_time), per_iteration = max(iteration_time);
-  const double memory = max(peak_megabytes());
+  const double memory = max(bench::peak_megabytes());
   const double force = problem.ground_force()[2], pressure = problem.max_pressure();
   const auto nodes = problem.gather_contact_nodes();
   if (!root)
