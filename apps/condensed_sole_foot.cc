@@ -7,6 +7,7 @@
 #include "fem/material_table.h"
 
 #include <array>
+#include <iostream>
 
 namespace plantar::app {
 
@@ -40,20 +41,49 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   condensation.contact_boundary = groups.surface("bottom");
   condensation.degree = scene.sole.degree;
   sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
-  if (!scene.sole_reduction.reduced()) {
-    set_patch(sole_->contact_positions().transpose(), sole_->compliance(), scene.sole.damping_time);
+  const auto& positions = sole_->contact_positions();
+  const SoleReductionParameters& reduction = scene.sole_reduction;
+  int nx = reduction.patches_x, ny = reduction.patches_y;
+  double estimate = -1; // computed below for a given grid
+  if (reduction.automatic) {
+    const coupling::ReductionChoice choice =
+        coupling::choose_reduction(positions, sole_->compliance(), reduction.tolerance);
+    nx = ny = choice.grid;
+    estimate = choice.estimate;
+    reduction_reached_ = choice.reached;
+    if (!choice.reached)
+      std::cerr << "warning: Sole/Reduced patches = auto: no grid of fewer patches than half the "
+                << positions.rows()
+                << " contact nodes meets Sole/Reduction tolerance = " << reduction.tolerance
+                << "; the full condensed sole is used\n";
+  }
+  if (nx == 0) {
+    set_patch(positions.transpose(), sole_->compliance(), scene.sole.damping_time);
     return;
   }
   // Reduced sole: bottom nodes grouped into patches, one contact per patch with the
   // patch-averaged compliance (coupling/reduced_sole.h). The stepper's contacts are no
   // longer the FEM nodes, so the condensed sole is released (no field output).
-  const auto& positions = sole_->contact_positions();
-  const coupling::ReducedSole reduced(
-      positions, sole_->compliance(),
-      coupling::ReducedSole::grid_patches(positions, scene.sole_reduction.patches_x,
-                                          scene.sole_reduction.patches_y));
+  const coupling::ReducedSole reduced(positions, sole_->compliance(),
+                                      coupling::ReducedSole::grid_patches(positions, nx, ny));
+  const Eigen::Vector3d origin = positions.colwise().mean().transpose();
+  reduction_x_ = nx;
+  reduction_y_ = ny;
+  reduction_estimate_ =
+      estimate >= 0 ? estimate
+                    : coupling::reduction_error_estimate(
+                          coupling::rigid_motion_stiffness(positions, sole_->compliance(), origin),
+                          reduced, origin);
   set_patch(reduced.patch_positions().transpose(), reduced.compliance(), scene.sole.damping_time);
   sole_.reset();
+}
+
+void CondensedSoleFoot::summarize(HumanoidSummary& summary) const {
+  SolePatchFoot::summarize(summary);
+  summary.sole_reduction_x = reduction_x_;
+  summary.sole_reduction_y = reduction_y_;
+  summary.sole_reduction_estimate = reduction_estimate_;
+  summary.sole_reduction_reached = reduction_reached_;
 }
 
 CondensedSoleFoot::~CondensedSoleFoot() = default;

@@ -2,7 +2,8 @@
 // Foot form "fem sole" with Sole/Model = linear: the linear FEM sole of subsection Sole,
 // condensed onto its bottom nodes (coupling/condensed_sole.h, paper eq. 11), one compliant
 // patch per foot; with Sole/Reduced patches the reduced sole (coupling/reduced_sole.h: one
-// contact per patch of bottom nodes, no field output). The robot is lifted by Sole/Thickness.
+// contact per patch of bottom nodes, no field output), its grid given or chosen (auto) by its
+// reduction error estimate against Sole/Reduction tolerance. The robot is lifted by Sole/Thickness.
 // Validity (small strains): each node's compression and displacement against the thickness,
 // Sole/Compression warning, Max compression, Strain warning, Max strain
 // (SoleValidityParameters; for the reduced sole the patches' averaged displacements).
@@ -23,6 +24,8 @@ public:
   explicit CondensedSoleFoot(const Scene& scene);
   ~CondensedSoleFoot() override;
   double lift() const override { return thickness_; }
+  /// The sole's contacts and stiffness (SolePatchFoot) and the reduction's grid and estimate.
+  void summarize(HumanoidSummary& summary) const override;
   /// Compression and strain of each sole against its limits.
   void check_validity(const multibody::Data& data, ValidityMonitor& monitor) const override;
   /// The full condensed sole has fields; the reduced one not.
@@ -42,7 +45,10 @@ private:
   double thickness_ = 0;
   ValidityLimit compression_limit_, strain_limit_;
   std::unique_ptr<coupling::CondensedSole> sole_;
-  mutable Eigen::VectorXd area_; ///< node_areas, computed at the first call
+  mutable Eigen::VectorXd area_;          ///< node_areas, computed at the first call
+  int reduction_x_ = 0, reduction_y_ = 0; ///< the reduced sole's grid (0: full)
+  double reduction_estimate_ = 0;         ///< coupling::reduction_error_estimate
+  bool reduction_reached_ = true;         ///< auto: a reduced grid met the tolerance
 };
 
 } // namespace plantar::app

@@ -251,11 +251,19 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
 }
 
 void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
+  const SoleReductionParameters d;
   prm.declare_entry("Reduced patches", "0", Anything(),
                     "fem sole: 0 = the full condensed sole (one contact per bottom node); "
                     "'nx, ny' (integers >= 1) = a reduced sole: the bottom nodes grouped by an nx "
                     "x ny grid over the sole into patches, one contact per patch with the "
-                    "patch-averaged compliance A^T C A (coupling/reduced_sole.h).");
+                    "patch-averaged compliance A^T C A (coupling/reduced_sole.h); 'auto' = the "
+                    "coarsest g x g grid (g = 1, 2, 4, ...) whose reduction error estimate meets "
+                    "Sole/Reduction tolerance, or the full sole with a warning.");
+  prm.declare_entry("Reduction tolerance", number_text(d.tolerance), Double(0, 1),
+                    "fem sole, Reduced patches = auto: the bound on the reduction error estimate "
+                    "||D^-1/2 (K - K_r) D^-1/2||_2 (the relative error of the sole face's "
+                    "stiffness against rigid motions, D = diag K; coupling/reduced_sole.h), "
+                    "(0, 1). The summary reports the estimate of every reduced sole.");
 }
 
 void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
@@ -263,6 +271,11 @@ void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
   const auto items = dealii::Utilities::split_string_list(text, ',');
   bool ok = false;
   patches_x = patches_y = 0;
+  tolerance = prm.get_double("Reduction tolerance");
+  automatic = items.size() == 1 && (items[0] == "auto" || items[0] == "Auto");
+  require(tolerance > 0 && tolerance < 1, "Sole/Reduction tolerance", tolerance, "(0, 1)");
+  if (automatic)
+    return;
   try {
     if (items.size() == 1 && dealii::Utilities::string_to_int(items[0]) == 0) {
       ok = true;
@@ -275,8 +288,9 @@ void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
     ok = false;
   }
   if (!ok)
-    throw std::invalid_argument("Sole/Reduced patches = '" + text +
-                                "': allowed 0 (full sole) or 'nx, ny' with integers in [1, 1000]");
+    throw std::invalid_argument(
+        "Sole/Reduced patches = '" + text +
+        "': allowed 0 (full sole), 'nx, ny' with integers in [1, 1000] or auto");
 }
 
 void SoleValidityParameters::declare(dealii::ParameterHandler& prm) {

@@ -57,7 +57,11 @@ SoleModel sole_model(const fem::SoleParameters& sole);
 struct SoleReductionParameters {
   int patches_x = 0; ///< 0: the full condensed sole; else nx x ny grid of contact patches
   int patches_y = 0; ///< >= 1 when patches_x >= 1
-  bool reduced() const { return patches_x > 0; }
+  /// Reduced patches = auto: the coarsest g x g grid whose reduction error estimate
+  /// (coupling::choose_reduction) is at most `tolerance`.
+  bool automatic = false;
+  double tolerance = 0.01; ///< Sole/Reduction tolerance, (0, 1)
+  bool reduced() const { return patches_x > 0 || automatic; }
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };

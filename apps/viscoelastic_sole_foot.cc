@@ -20,8 +20,10 @@ bool has_viscoelastic_material(const std::string& materials) {
 ViscoelasticSoleFoot::ViscoelasticSoleFoot(const Scene& scene) : thickness_(scene.sole.thickness) {
   if (scene.sole_reduction.reduced())
     throw std::invalid_argument(
-        "Sole/Reduced patches = " + std::to_string(scene.sole_reduction.patches_x) + ", " +
-        std::to_string(scene.sole_reduction.patches_y) +
+        "Sole/Reduced patches = " +
+        (scene.sole_reduction.automatic ? std::string("auto")
+                                        : std::to_string(scene.sole_reduction.patches_x) + ", " +
+                                              std::to_string(scene.sole_reduction.patches_y)) +
         ": a viscoelastic sole (law=prony in Sole/Materials) needs the full sole, allowed 0");
   if (scene.sole.damping_time != 0.0)
     throw std::invalid_argument(

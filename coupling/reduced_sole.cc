@@ -1,6 +1,7 @@
 #include "coupling/reduced_sole.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include <algorithm>
 #include <cmath>
@@ -99,6 +100,43 @@ Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& posit
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(compliance);
   const Eigen::MatrixXd k = r.transpose() * ldlt.solve(r);
   return 0.5 * (k + k.transpose());
+}
+
+double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
+                                const ReducedSole& reduced, const Eigen::Vector3d& origin) {
+  const int p = reduced.n_patches();
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * p, 6);
+  for (int j = 0; j < p; ++j) {
+    const Eigen::Vector3d d = reduced.patch_positions().row(j).transpose() - origin;
+    r.block<3, 3>(3 * j, 0).setIdentity();
+    r.block<3, 3>(3 * j, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced.compliance());
+  const Eigen::Matrix<double, 6, 6> k_r = r.transpose() * ldlt.solve(r);
+  const Eigen::Matrix<double, 6, 1> scale = k_full.diagonal().cwiseSqrt().cwiseInverse();
+  const Eigen::Matrix<double, 6, 6> gap = scale.asDiagonal() * (k_full - k_r) * scale.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(
+      0.5 * (gap + gap.transpose()), Eigen::EigenvaluesOnly);
+  return eigen.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
+                                 const Eigen::MatrixXd& compliance, double tolerance) {
+  if (!(tolerance > 0))
+    throw std::invalid_argument("choose_reduction: tolerance " + std::to_string(tolerance) +
+                                ", allowed > 0");
+  const int n = static_cast<int>(positions.rows());
+  const Eigen::Vector3d origin = positions.colwise().mean().transpose();
+  const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(positions, compliance, origin);
+  for (int g = 1;; g *= 2) {
+    const ReducedSole reduced(positions, compliance, ReducedSole::grid_patches(positions, g, g));
+    if (2 * reduced.n_patches() > n)
+      break;
+    const double estimate = reduction_error_estimate(k_full, reduced, origin);
+    if (estimate <= tolerance)
+      return {g, reduced.n_patches(), estimate, true};
+  }
+  return {0, n, 0.0, false};
 }
 
 } // namespace plantar::coupling

@@ -61,4 +61,34 @@ Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& posit
                                                    const Eigen::MatrixXd& compliance,
                                                    const Eigen::Vector3d& origin);
 
+/// The reduction error estimate of a reduced sole: the scaled error of its contact face's
+/// rigid-motion stiffness,
+///
+///   e = || D^-1/2 (K - K_r) D^-1/2 ||_2,   D = diag(K),
+///
+/// K the full sole's rigid_motion_stiffness about @p origin (@p k_full), K_r the reduced
+/// sole's at its patch centres (with fewer than 3 patches, by R_r^T C_r^-1 R_r, which is
+/// singular in the rotations: e >= 1). 0 <= e; e = 0 with one node per patch; e falls
+/// monotonically under nested refinement (K_r <= K in the Loewner order, reduced_sole test).
+/// e bounds the relative error of the face's stiffness in every rigid direction. Allocates.
+double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
+                                const ReducedSole& reduced, const Eigen::Vector3d& origin);
+
+/// The grid chosen by choose_reduction().
+struct ReductionChoice {
+  int grid = 0;        ///< g of the g x g grid; 0: the full sole
+  int n_patches = 0;   ///< contacts of the chosen sole (the nodes for the full sole)
+  double estimate = 0; ///< reduction_error_estimate of the choice (0 for the full sole)
+  bool reached = true; ///< false: no reduced grid met the tolerance, the full sole is chosen
+};
+
+/// The cheapest sole whose reduction_error_estimate is at most @p tolerance (> 0): the
+/// coarsest of the nested grids g x g, g = 1, 2, 4, ..., over the nodes' bounding box
+/// (grid_patches) with fewer than half as many patches as nodes; otherwise the full sole
+/// (reached = false). @p positions (n x 3, m) and @p compliance (3n x 3n, m/N) of the full
+/// condensed sole; the origin is the nodes' centroid. Cost: one dense factorisation of C and
+/// one of each candidate's C_r. Throws std::invalid_argument on tolerance <= 0.
+ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
+                                 const Eigen::MatrixXd& compliance, double tolerance);
+
 } // namespace plantar::coupling

@@ -1,8 +1,15 @@
 // Work-precision study of the humanoid scenes (issue 8): speed against error.
 //
 //   work_precision SCENE.prm [SCENE.prm ...] --out DIR [--repeat R] [--duration-drop S]
-//                  [--duration-walk S] [--base-only] [--no-hyperelastic] [--only KNOB,...]
+//                  [--duration-walk S] [--duration S] [--base-only] [--no-hyperelastic]
+//                  [--only KNOB,...] [--mesh-sizes H,...] [--patches G,...]
+//                  [--mesh-patches G,...] [--auto TOL,...] [--frame-every S]
 //
+// --mesh-sizes: the mesh knob's sizes (m; default the scene's x 4/3, 1, 2/3, 1/2); --patches:
+// the sole model knob's grids (default 2, 3, 4, 6, 8); --mesh-patches G: one more knob per G,
+// "mesh reduced GxG", the mesh sizes on a G x G reduced sole (cost against contact nodes,
+// bench/fine_sole/); --auto TOL: sole model rows "auto TOL" (Sole/Reduced patches = auto,
+// Sole/Reduction tolerance = TOL).
 // For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole
 // scene unless given), one knob at a time is varied from the scene's own setting, the others
 // kept: sole mesh size, element degree, time step, the time step with the theta = 1/2 stepper
@@ -22,6 +29,10 @@
 // first step's settling onto the unloaded soles), and e_a_avg10, the peak of a_z averaged over
 // centred 10 ms windows (independent of dt); both also for runs that fell, up to the earlier
 // end of the two runs (compared_until_s).
+// Issue 25's quantities (bench/fine_sole/): e_af, the filtered waist a_z peak; the worst
+// landing's impulse and peak force; the centre-of-pressure path (m) and the nodal normal force
+// field (relative, per frame every --frame-every s, worst and median), against the same
+// reference (compare_issue25).
 // Cost: loop wall seconds per simulated second, split into the stepper's phases
 // (multibody::StepProfile) and "other" (reference, waist figures, CSV rows). One rigid-foot run
 // gives the rigid cost. Each configuration is run R times, the minimum wall time kept; the
@@ -34,9 +45,11 @@
 #include "apps/humanoid_simulation.h"
 #include "apps/scene.h"
 #include "apps/sole_patch_foot.h"
+#include "coupling/reduced_sole.h"
 #include "fem/exception_text.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -85,6 +98,17 @@ struct Result {
   // e_w: peak |a_z| from t0; e_10: peak |a_z| averaged over centred 10 ms windows from t0.
   double horizon = 0, peak_walk = NAN, peak_avg10 = NAN, e_w = NAN, e_10 = NAN;
   double solve_time = NAN, pass_time = NAN, operator_bytes = 0;
+  // Issue 25's quantities of interest. patches: the reduced grid (0: the full sole).
+  int patches_x = 0, patches_y = 0;
+  double peak_af = 0;                           // filtered waist |a_z| peak, m/s^2
+  std::array<std::vector<Landing>, 2> landings; // right, left
+  Eigen::Matrix3Xd nodes;                       // contact points of a foot (sole frame, m)
+  std::vector<double> frame_time;               // s
+  std::array<std::vector<Eigen::VectorXd>, 2> normal_force; // per frame, per contact, N
+  std::array<std::vector<Eigen::Vector2d>, 2> cop;          // per frame, world x-y, m
+  double kept_bytes = 0;                                    // the feet's compliance operators
+  double reduction_estimate = 0; // coupling::reduction_error_estimate (0: full)
+  double e_af = NAN, e_j = NAN, e_f = NAN, e_cop = NAN, e_pf = NAN, e_pf_median = NAN;
 };
 
 double now() {
@@ -119,7 +143,9 @@ double read_pass_time(double bytes) {
   return best;
 }
 
-void run_one(const Scene& scene, Result& result, int repeat) {
+/// Runs @p scene @p repeat times into @p result; every @p frame_every seconds the feet's normal
+/// contact forces and centres of pressure are kept (issue 25's field and path errors).
+void run_one(const Scene& scene, Result& result, int repeat, double frame_every) {
   for (int r = 0; r < repeat; ++r) {
     try {
       HumanoidSimulation simulation(scene);
@@ -128,19 +154,42 @@ void run_one(const Scene& scene, Result& result, int repeat) {
       std::vector<double> impulse;
       impulse.reserve(simulation.n_steps() + 1);
       double max_deformation = 0;
+      const long frame_steps = std::max(1L, std::lround(frame_every / dt));
+      long step = 0;
+      result.frame_time.clear();
+      for (int foot = 0; foot < 2; ++foot) {
+        result.normal_force[foot].clear();
+        result.cop[foot].clear();
+      }
       std::string failure;
       const std::clock_t cpu_start = std::clock();
       try {
         simulation.run([&](const HumanoidSimulation& s) {
           const multibody::Stepper& stepper = s.stepper();
           impulse.push_back(stepper.total_contact_force().z() * dt);
-          if (fem)
-            for (int foot = 0; foot < 2; ++foot) {
-              const Eigen::VectorXd& u = // (n, t1, t2) per node
-                  dynamic_cast<const SolePatchFoot&>(s.foot_model()).pad(foot).displacement();
-              for (Eigen::Index k = 0; k < u.size(); k += 3)
-                max_deformation = std::max(max_deformation, std::abs(u[k]));
-            }
+          if (!fem)
+            return;
+          const auto& sole = dynamic_cast<const SolePatchFoot&>(s.foot_model());
+          for (int foot = 0; foot < 2; ++foot) {
+            const Eigen::VectorXd& u = sole.pad(foot).displacement(); // (n, t1, t2) per node
+            for (Eigen::Index k = 0; k < u.size(); k += 3)
+              max_deformation = std::max(max_deformation, std::abs(u[k]));
+          }
+          if (++step % frame_steps != 0)
+            return;
+          result.frame_time.push_back(step * dt);
+          const TimeSeries& contacts = s.contact_series();
+          const int row = contacts.n_rows() - 1;
+          for (int foot = 0; foot < 2; ++foot) {
+            const Eigen::VectorXd& f = sole.pad(foot).force(); // (n, t1, t2) per node
+            result.normal_force[foot].push_back(
+                Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<3>>(f.data(),
+                                                                            f.size() / 3));
+            const std::string side = foot == 0 ? "right_" : "left_";
+            result.cop[foot].emplace_back(
+                row >= 0 ? contacts(row, contacts.column(side + "copx")) : NAN,
+                row >= 0 ? contacts(row, contacts.column(side + "copy")) : NAN);
+          }
         });
       } catch (const std::exception& e) {
         failure = fem::exception_text(e); // keep the cost up to the failure
@@ -173,6 +222,19 @@ void run_one(const Scene& scene, Result& result, int repeat) {
               ? double(summary.n_local_solves) / double(summary.solver_iterations)
               : 0;
       result.peak_az = summary.max_waist_acceleration_z;
+      result.peak_af = summary.max_waist_acceleration_z_filtered;
+      for (int foot = 0; foot < 2; ++foot)
+        result.landings[foot] = simulation.landings(foot);
+      result.patches_x = summary.sole_reduction_x;
+      result.patches_y = summary.sole_reduction_y;
+      result.reduction_estimate = summary.sole_reduction_estimate;
+      if (fem) {
+        const auto& sole = dynamic_cast<const SolePatchFoot&>(simulation.foot_model());
+        result.nodes = sole.contact_points();
+        result.kept_bytes = 0;
+        for (int foot = 0; foot < 2; ++foot)
+          result.kept_bytes += 8.0 * double(sole.pad(foot).compliance().size());
+      }
       result.max_deformation = max_deformation;
       result.dissipated = summary.sole_dissipated_energy;
       result.impulse = impulse;
@@ -233,6 +295,80 @@ std::pair<double, double> peaks(const std::vector<double>& vz, double dt, double
   return {raw, avg};
 }
 
+/// Largest relative difference of a landing figure over the landings both runs have (per foot,
+/// in order).
+double landing_error(const Result& r, const Result& ref, double Landing::*figure) {
+  double worst = NAN;
+  for (int foot = 0; foot < 2; ++foot)
+    for (std::size_t k = 0; k < std::min(r.landings[foot].size(), ref.landings[foot].size()); ++k) {
+      const double a = r.landings[foot][k].*figure, b = ref.landings[foot][k].*figure;
+      const double e = std::abs(a - b) / std::abs(b);
+      worst = std::isnan(worst) ? e : std::max(worst, e);
+    }
+  return worst;
+}
+
+/// Issue 25's errors of @p r against @p ref (same time step): filtered peak a_z, landing impulse
+/// and peak force (the worst landing), centre-of-pressure path (the largest distance, m, over
+/// the frames where both runs load the foot with more than 5 % of the reference's largest
+/// foot force) and the contact
+/// force field: the relative Euclidean norm of the nodal normal forces' difference per frame
+/// (frames where the reference foot carries > 5 % of its largest force), its maximum and median. A
+/// reduced run's patch force F_j is spread as F_j / n_j over its nodes (coupling/reduced_sole.h);
+/// the field error needs the reference on the full sole of the same mesh.
+void compare_issue25(Result& r, const Result& ref) {
+  if (ref.peak_af > 0)
+    r.e_af = std::abs(r.peak_af - ref.peak_af) / ref.peak_af;
+  r.e_j = landing_error(r, ref, &Landing::impulse);
+  r.e_f = landing_error(r, ref, &Landing::peak_force);
+  if (r.dt != ref.dt || r.frame_time.empty() || ref.frame_time.empty())
+    return;
+  double loaded = 0; // N: 5 % of the reference's largest foot force
+  for (int foot = 0; foot < 2; ++foot)
+    for (const Eigen::VectorXd& f : ref.normal_force[foot])
+      loaded = std::max(loaded, 0.05 * f.sum());
+  const std::size_t frames = std::min(r.frame_time.size(), ref.frame_time.size());
+  double cop = 0;
+  for (int foot = 0; foot < 2; ++foot)
+    for (std::size_t k = 0; k < frames; ++k)
+      if (r.normal_force[foot][k].sum() > loaded && ref.normal_force[foot][k].sum() > loaded)
+        cop = std::max(cop, (r.cop[foot][k] - ref.cop[foot][k]).norm());
+  r.e_cop = cop;
+  const bool same_mesh = ref.patches_x == 0 && r.nodes.cols() > 0 &&
+                         (r.patches_x > 0 || r.nodes.cols() == ref.nodes.cols());
+  if (!same_mesh)
+    return;
+  std::vector<int> patch_of_node;
+  std::vector<double> patch_size;
+  if (r.patches_x > 0) {
+    patch_of_node =
+        coupling::ReducedSole::grid_patches(ref.nodes.transpose(), r.patches_x, r.patches_y);
+    patch_size.assign(r.nodes.cols(), 0.0);
+    for (const int j : patch_of_node)
+      patch_size.at(j) += 1;
+  }
+  std::vector<double> errors;
+  Eigen::VectorXd spread(ref.nodes.cols());
+  for (int foot = 0; foot < 2; ++foot)
+    for (std::size_t k = 0; k < frames; ++k) {
+      const Eigen::VectorXd& b = ref.normal_force[foot][k];
+      if (b.sum() <= loaded)
+        continue;
+      const Eigen::VectorXd& a = r.normal_force[foot][k];
+      if (r.patches_x > 0)
+        for (Eigen::Index i = 0; i < spread.size(); ++i)
+          spread[i] = a[patch_of_node[i]] / patch_size[patch_of_node[i]];
+      else
+        spread = a;
+      errors.push_back((spread - b).norm() / b.norm());
+    }
+  if (errors.empty())
+    return;
+  std::sort(errors.begin(), errors.end());
+  r.e_pf = errors.back();
+  r.e_pf_median = errors[errors.size() / 2];
+}
+
 void compare(Result& r, const Result& ref, double window) {
   // The companion measures also when a run failed (fell): over the time both simulated.
   if (!r.vz.empty() && !ref.vz.empty()) {
@@ -258,6 +394,7 @@ void compare(Result& r, const Result& ref, double window) {
     scale = std::max(scale, std::abs(b[w]));
   }
   r.e_p = scale > 0 ? worst / scale : NAN;
+  compare_issue25(r, ref);
 }
 
 std::string fmt(double x, const char* f = "%.4g") {
@@ -304,6 +441,17 @@ void make_viscoelastic(Scene& s) {
   s.sole_reduction = {};
 }
 
+/// The numbers of a comma-separated @p list (throws on a bad number).
+std::vector<double> number_list(const std::string& list) {
+  std::vector<double> out;
+  for (std::size_t start = 0; start < list.size();) {
+    const auto comma = std::min(list.find(',', start), list.size());
+    out.push_back(std::stod(list.substr(start, comma - start)));
+    start = comma + 1;
+  }
+  return out;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -313,7 +461,13 @@ int main(int argc, char** argv) {
   bool base_only = false;   // --base-only: the scene's own setting (fem sole) and rigid feet
   bool hyperelastic = true; // --no-hyperelastic: skip the hyperelastic-sole knob
   double duration_drop = 0.5, duration_walk = 0;
-  std::vector<std::string> only; // --only: the knobs to run (all when empty)
+  std::vector<std::string> only;       // --only: the knobs to run (all when empty)
+  double duration = 0;                 // --duration: every scene type (overrides the two above)
+  double frame_every = 0.01;           // --frame-every: s between the kept force fields
+  std::vector<double> mesh_sizes;      // --mesh-sizes: the mesh knob's sizes (m), else h0 x factors
+  std::vector<double> patches;         // --patches: the sole model knob's grids g x g
+  std::vector<double> mesh_patches;    // --mesh-patches: a mesh knob per reduced grid g x g
+  std::vector<double> auto_tolerances; // --auto: sole model rows with Reduced patches = auto
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc)
@@ -328,6 +482,18 @@ int main(int argc, char** argv) {
       hyperelastic = false;
     else if (a == "--duration-walk" && i + 1 < argc)
       duration_walk = std::atof(argv[++i]);
+    else if (a == "--duration" && i + 1 < argc)
+      duration = std::atof(argv[++i]);
+    else if (a == "--frame-every" && i + 1 < argc)
+      frame_every = std::atof(argv[++i]);
+    else if (a == "--mesh-sizes" && i + 1 < argc)
+      mesh_sizes = number_list(argv[++i]);
+    else if (a == "--patches" && i + 1 < argc)
+      patches = number_list(argv[++i]);
+    else if (a == "--mesh-patches" && i + 1 < argc)
+      mesh_patches = number_list(argv[++i]);
+    else if (a == "--auto" && i + 1 < argc)
+      auto_tolerances = number_list(argv[++i]);
     else if (a == "--only" && i + 1 < argc) {
       std::string list = argv[++i];
       for (std::size_t start = 0; start <= list.size();) {
@@ -339,8 +505,9 @@ int main(int argc, char** argv) {
       scenes.emplace_back(a);
     else {
       std::cerr << "usage: work_precision SCENE.prm ... --out DIR [--repeat R] "
-                   "[--duration-drop S] [--duration-walk S] [--base-only] [--no-hyperelastic] "
-                   "[--only KNOB,...]\n";
+                   "[--duration-drop S] [--duration-walk S] [--duration S] [--base-only] "
+                   "[--no-hyperelastic] [--only KNOB,...] [--mesh-sizes H,...] [--patches G,...] "
+                   "[--mesh-patches G,...] [--auto TOL,...] [--frame-every S]\n";
       return 1;
     }
   }
@@ -350,6 +517,45 @@ int main(int argc, char** argv) {
   }
   std::filesystem::create_directories(out);
   std::vector<Result> results;
+  // The CSV, rewritten after every knob (a run killed later keeps the knobs done), by a
+  // temporary file and a rename.
+  const auto write_csv = [&]() {
+    const std::filesystem::path path = out / "work_precision.csv",
+                                tmp = out / "work_precision.csv.tmp";
+    {
+      std::ofstream csv(tmp);
+      csv << "scene,knob,value,reference,status,dt,simulated_s,contacts_per_foot,max_contacts,"
+             "mean_iterations,cpu_per_sim_s,wall_per_sim_s,dynamics,contact_build,sole_update,"
+             "contact_"
+             "solve,"
+             "other,setup_s,peak_az,max_deformation,e_a,e_u,e_p,solve_us,pass_us,solve_over_pass,"
+             "compared_until_s,peak_az_walk,peak_az_avg10,e_a_walk,e_a_avg10,direct_fraction,"
+             "refused_cone_fraction,refused_residual_fraction,sweeps_after_refusal,"
+             "local_solves_per_sweep,sole_dissipated_J,peak_az_filtered,e_af,e_landing_impulse,"
+             "e_landing_peak_force,e_cop_m,e_field_max,e_field_median,kept_MB,n_landings,"
+             "reduction_estimate\n";
+      for (const auto& r : results) {
+        const double sim = std::max(r.simulated, 1e-12);
+        const auto& p = r.profile;
+        const double other = r.wall - p.total();
+        csv << r.scene << "," << r.knob << "," << r.value << "," << r.reference << "," << r.status
+            << "," << r.dt << "," << r.simulated << "," << r.contacts_per_foot << ","
+            << r.max_contacts << "," << r.mean_iterations << "," << r.cpu / sim << ","
+            << r.wall / sim << "," << p.dynamics / sim << "," << p.contact_build / sim << ","
+            << p.sole_update / sim << "," << p.contact_solve / sim << "," << other / sim << ","
+            << r.setup << "," << r.peak_az << "," << r.max_deformation << "," << r.e_a << ","
+            << r.e_u << "," << r.e_p << "," << 1e6 * r.solve_time << "," << 1e6 * r.pass_time << ","
+            << r.solve_time / r.pass_time << "," << r.horizon << "," << r.peak_walk << ","
+            << r.peak_avg10 << "," << r.e_w << "," << r.e_10 << "," << r.direct_fraction << ","
+            << r.refused_cone_fraction << "," << r.refused_residual_fraction << ","
+            << r.sweeps_after_refusal << "," << r.local_solves_per_sweep << "," << r.dissipated
+            << "," << r.peak_af << "," << r.e_af << "," << r.e_j << "," << r.e_f << "," << r.e_cop
+            << "," << r.e_pf << "," << r.e_pf_median << "," << r.kept_bytes / 1048576.0 << ","
+            << r.landings[0].size() + r.landings[1].size() << "," << r.reduction_estimate << "\n";
+      }
+    }
+    std::filesystem::rename(tmp, path);
+  };
   for (const auto& file : scenes) {
     dealii::ParameterHandler prm;
     Scene base;
@@ -361,16 +567,33 @@ int main(int argc, char** argv) {
     }
     base.robot.foot_form = FootForm::fem_sole;
     base.output.write_vtu = false;
-    const double duration = base.type == SceneType::drop ? duration_drop : duration_walk;
-    if (duration > 0)
-      base.simulation.duration = duration;
+    const double scene_duration = duration > 0                   ? duration
+                                  : base.type == SceneType::drop ? duration_drop
+                                                                 : duration_walk;
+    if (scene_duration > 0)
+      base.simulation.duration = scene_duration;
     const double h0 = base.sole.mesh_size, dt0 = base.simulation.time_step;
     std::vector<std::vector<Variant>> knobs;
+    std::vector<double> sizes = mesh_sizes;
+    if (sizes.empty())
+      for (double f : {4.0 / 3.0, 1.0, 2.0 / 3.0, 0.5})
+        sizes.push_back(h0 * f);
     {
       std::vector<Variant> v;
-      for (double f : {4.0 / 3.0, 1.0, 2.0 / 3.0, 0.5})
-        v.push_back(
-            {"mesh size", fmt(h0 * f, "%.3g"), [h = h0 * f](Scene& s) { s.sole.mesh_size = h; }});
+      for (double h : sizes)
+        v.push_back({"mesh size", fmt(h, "%.3g"), [h](Scene& s) { s.sole.mesh_size = h; }});
+      knobs.push_back(v);
+    }
+    for (const double g : mesh_patches) {
+      // The mesh knob on a reduced sole of g x g patches (cost against contact nodes).
+      const int n = static_cast<int>(g);
+      std::vector<Variant> v;
+      for (double h : sizes)
+        v.push_back({"mesh reduced " + std::to_string(n) + "x" + std::to_string(n), fmt(h, "%.3g"),
+                     [h, n](Scene& s) {
+                       s.sole.mesh_size = h;
+                       s.sole_reduction.patches_x = s.sole_reduction.patches_y = n;
+                     }});
       knobs.push_back(v);
     }
     knobs.push_back({{"degree", "1", [](Scene& s) { s.sole.degree = 1; }},
@@ -407,12 +630,21 @@ int main(int argc, char** argv) {
     }
     {
       std::vector<Variant> v;
-      for (int g : {2, 3, 4, 6, 8})
-        v.push_back(
-            {"sole model", "reduced " + std::to_string(g) + "x" + std::to_string(g), [g](Scene& s) {
-               s.sole_reduction.patches_x = g;
-               s.sole_reduction.patches_y = g;
-             }});
+      if (patches.empty())
+        patches = {2, 3, 4, 6, 8};
+      for (const double p : patches)
+        v.push_back({"sole model",
+                     "reduced " + std::to_string(int(p)) + "x" + std::to_string(int(p)),
+                     [g = int(p)](Scene& s) {
+                       s.sole_reduction.patches_x = g;
+                       s.sole_reduction.patches_y = g;
+                     }});
+      for (const double tolerance : auto_tolerances)
+        v.push_back({"sole model", "auto " + fmt(tolerance, "%.3g"), [tolerance](Scene& s) {
+                       s.sole_reduction = {};
+                       s.sole_reduction.automatic = true;
+                       s.sole_reduction.tolerance = tolerance;
+                     }});
       v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
       knobs.push_back(v);
     }
@@ -447,8 +679,11 @@ int main(int argc, char** argv) {
     if (!only.empty())
       knobs.erase(std::remove_if(knobs.begin(), knobs.end(),
                                  [&](const std::vector<Variant>& k) {
-                                   return std::find(only.begin(), only.end(), k.front().knob) ==
-                                          only.end();
+                                   const std::string& name = k.front().knob;
+                                   return std::find(only.begin(), only.end(), name) == only.end() &&
+                                          !(name.rfind("mesh reduced", 0) == 0 &&
+                                            std::find(only.begin(), only.end(), "mesh reduced") !=
+                                                only.end());
                                  }),
                   knobs.end());
     if (base_only)
@@ -465,7 +700,7 @@ int main(int argc, char** argv) {
         r.value = variant.value;
         std::cerr << to_string(base.type) << ": " << r.knob << " = " << r.value << " ..."
                   << std::flush;
-        run_one(scene, r, repeat);
+        run_one(scene, r, repeat, frame_every);
         std::cerr << " " << r.status << ", " << fmt(r.wall / std::max(r.simulated, 1e-12))
                   << " s/s\n";
         rows.push_back(r);
@@ -474,6 +709,7 @@ int main(int argc, char** argv) {
       for (auto& r : rows)
         compare(r, rows.back(), window);
       results.insert(results.end(), rows.begin(), rows.end());
+      write_csv();
     }
     if (hyperelastic && only.empty()) {
       // Nonlinear against linear: the linear full sole against the hyperelastic reference.
@@ -499,18 +735,12 @@ int main(int argc, char** argv) {
     r.knob = "rigid feet";
     r.value = "rigid";
     r.reference = true;
-    run_one(rigid, r, repeat);
+    run_one(rigid, r, repeat, frame_every);
     results.push_back(r);
   }
+  write_csv();
 
-  std::ofstream csv(out / "work_precision.csv");
-  csv << "scene,knob,value,reference,status,dt,simulated_s,contacts_per_foot,max_contacts,"
-         "mean_iterations,cpu_per_sim_s,wall_per_sim_s,dynamics,contact_build,sole_update,contact_"
-         "solve,"
-         "other,setup_s,peak_az,max_deformation,e_a,e_u,e_p,solve_us,pass_us,solve_over_pass,"
-         "compared_until_s,peak_az_walk,peak_az_avg10,e_a_walk,e_a_avg10,direct_fraction,"
-         "refused_cone_fraction,refused_residual_fraction,sweeps_after_refusal,"
-         "local_solves_per_sweep,sole_dissipated_J\n";
+  write_csv();
   std::printf(
       "%-5s %-11s %-13s %8s %8s %6s %7s %8s %8s %8s %8s %8s %9s %9s %9s %8s %6s %9s %9s %6s\n",
       "scene", "knob", "value", "cpu/sim", "wall/sim", "x_rt", "dyn", "build", "sole", "solve",
@@ -520,17 +750,6 @@ int main(int argc, char** argv) {
     const double sim = std::max(r.simulated, 1e-12);
     const auto& p = r.profile;
     const double other = r.wall - p.total();
-    csv << r.scene << "," << r.knob << "," << r.value << "," << r.reference << "," << r.status
-        << "," << r.dt << "," << r.simulated << "," << r.contacts_per_foot << "," << r.max_contacts
-        << "," << r.mean_iterations << "," << r.cpu / sim << "," << r.wall / sim << ","
-        << p.dynamics / sim << "," << p.contact_build / sim << "," << p.sole_update / sim << ","
-        << p.contact_solve / sim << "," << other / sim << "," << r.setup << "," << r.peak_az << ","
-        << r.max_deformation << "," << r.e_a << "," << r.e_u << "," << r.e_p << ","
-        << 1e6 * r.solve_time << "," << 1e6 * r.pass_time << "," << r.solve_time / r.pass_time
-        << "," << r.horizon << "," << r.peak_walk << "," << r.peak_avg10 << "," << r.e_w << ","
-        << r.e_10 << "," << r.direct_fraction << "," << r.refused_cone_fraction << ","
-        << r.refused_residual_fraction << "," << r.sweeps_after_refusal << ","
-        << r.local_solves_per_sweep << "," << r.dissipated << "\n";
     std::printf(
         "%-5s %-11s %-13s %8.3f %8.3f %6.1f %7.3f %8.3f %8.3f %8.3f %8.3f %8.2f %9.2e %9.2e "
         "%9.2e %8.1f %6.1f %9.2e %9.2e %6.2f %s\n",

@@ -114,6 +114,8 @@ TEST(ReducedSole, RigidStiffnessConvergesMonotonically) {
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig_step(
         0.5 * (step + step.transpose()));
     const double error = eig_gap.eigenvalues().cwiseAbs().maxCoeff();
+    // The library's estimate (Sole/Reduced patches = auto) is this scaled error.
+    EXPECT_NEAR(reduction_error_estimate(k_full, reduced, origin), error, 1e-9 * (1 + error)) << g;
     std::printf("grid %4dx%-4d patches %4d (max %3d nodes): ||D^-1/2 (K - K_r) D^-1/2||_2 = "
                 "%.3e, K_r,zz / K_zz = %.6f, K_r,xx(rot) / K_xx(rot) = %.6f\n",
                 g, g, reduced.n_patches(), max_patch, error, k_r(2, 2) / k_full(2, 2),
@@ -128,6 +130,44 @@ TEST(ReducedSole, RigidStiffnessConvergesMonotonically) {
   EXPECT_EQ(max_patch, 1) << "no grid up to 1024x1024 separates the nodes";
   EXPECT_GE(levels, 4);
   EXPECT_LT(previous_error, 1e-10) << "one node per patch must reproduce the full model";
+}
+
+// Sole/Reduced patches = auto: the coarsest grid meeting the tolerance. On the 3 cm sole
+// (63 nodes) the estimates are 1.02 (1x1), 0.28 (2x2), 0.12 (4x4); 8x8 has 55 patches, more
+// than half the nodes, so a tolerance below 0.12 leaves the full sole (reached = false).
+TEST(ReducedSole, ChoiceMeetsTheToleranceAtTheLeastCost) {
+  const CondensedSole sole = make_sole();
+  const Eigen::MatrixX3d& x = sole.contact_positions();
+  const Eigen::Vector3d origin = x.colwise().mean().transpose();
+  const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(x, sole.compliance(), origin);
+  const auto estimate = [&](int g) {
+    return reduction_error_estimate(
+        k_full, ReducedSole(x, sole.compliance(), ReducedSole::grid_patches(x, g, g)), origin);
+  };
+  for (const double tolerance : {2.0, 0.5, 0.2, 0.05}) {
+    const ReductionChoice choice = choose_reduction(x, sole.compliance(), tolerance);
+    std::printf("tolerance %.2f: grid %d, %d contacts, estimate %.3f, reached %d\n", tolerance,
+                choice.grid, choice.n_patches, choice.estimate, choice.reached);
+    if (choice.reached) {
+      ASSERT_GE(choice.grid, 1);
+      EXPECT_LE(choice.estimate, tolerance);
+      EXPECT_NEAR(choice.estimate, estimate(choice.grid), 1e-12);
+      EXPECT_LE(2 * choice.n_patches, sole.n_contacts());
+      if (choice.grid > 1)
+        EXPECT_GT(estimate(choice.grid / 2), tolerance) << "a coarser grid meets it";
+    } else {
+      EXPECT_EQ(choice.grid, 0);
+      EXPECT_EQ(choice.n_patches, sole.n_contacts());
+      EXPECT_GT(estimate(4), tolerance);
+      const auto patches = ReducedSole::grid_patches(x, 8, 8);
+      EXPECT_GT(2 * (*std::max_element(patches.begin(), patches.end()) + 1), sole.n_contacts());
+    }
+  }
+  EXPECT_EQ(choose_reduction(x, sole.compliance(), 2.0).grid, 1);
+  EXPECT_EQ(choose_reduction(x, sole.compliance(), 0.5).grid, 2);
+  EXPECT_EQ(choose_reduction(x, sole.compliance(), 0.2).grid, 4);
+  EXPECT_FALSE(choose_reduction(x, sole.compliance(), 0.05).reached);
+  EXPECT_THROW(choose_reduction(x, sole.compliance(), 0.0), std::invalid_argument);
 }
 
 TEST(ReducedSole, RejectsBadInput) {

@@ -1,0 +1,185 @@
+#!/usr/bin/python3
+"""Tables and the log-log plot of issue 25's fine-sole study (bench/fine_sole/run.sh).
+
+    table.py OUT_DIR   (writes Markdown to stdout and OUT_DIR/scaling.png)
+
+Reads OUT_DIR/scaling/ and OUT_DIR/scaling_reduced/work_precision.csv (stand, cost against
+contact nodes),
+OUT_DIR/walk_1cm/ and OUT_DIR/walk_5mm/work_precision.csv (the walk, reduced soles against the
+full one) and OUT_DIR/hmatrix.txt (hierarchical_compliance_bench). Slopes are least-squares fits
+of log(cost) against log(contact nodes per foot).
+"""
+import csv
+import math
+import os
+import re
+import sys
+
+
+def read(path):
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def num(row, key):
+    try:
+        return float(row[key])
+    except (KeyError, ValueError):
+        return math.nan
+
+
+def slope(xs, ys):
+    pts = [(math.log(x), math.log(y)) for x, y in zip(xs, ys) if x > 0 and y > 0]
+    if len(pts) < 2:
+        return math.nan
+    mx = sum(p[0] for p in pts) / len(pts)
+    my = sum(p[1] for p in pts) / len(pts)
+    sxx = sum((p[0] - mx) ** 2 for p in pts)
+    return sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx
+
+
+def pct(x):
+    return "-" if math.isnan(x) else f"{100 * x:.2g} %"
+
+
+def scaling(out):
+    rows = [r for d in ("scaling", "scaling_reduced")
+            for r in read(os.path.join(out, d, "work_precision.csv"))
+            if r["knob"] == "mesh size" or r["knob"].startswith("mesh reduced")]
+    if not rows:
+        return {}
+    print("## Cost per step against contact nodes (stand, both feet loaded)\n")
+    print("| method | h (m) | nodes per foot | contacts (max) | loop ms/step | solve share |"
+          " set-up s | kept MB | x real time | status |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    curves = {}
+    for r in rows:
+        method = "full" if r["knob"] == "mesh size" else r["knob"].replace("mesh ", "")
+        dt, wall = num(r, "dt"), num(r, "wall_per_sim_s")
+        step_ms = 1e3 * wall * dt
+        share = num(r, "contact_solve") / wall if wall > 0 else math.nan
+        n = int(num(r, "contacts_per_foot"))
+        ok = r["status"] == "ok"
+        print(f"| {method} | {r['value']} | {n} | {r['max_contacts']} | {step_ms:.3g} |"
+              f" {pct(share)} | {num(r, 'setup_s'):.3g} | {num(r, 'kept_MB'):.3g} |"
+              f" {1 / wall:.3g} | {'ok' if ok else r['status'][:60]} |")
+        if ok:
+            c = curves.setdefault(method, {"n": [], "step": [], "setup": [], "kept": []})
+            c["n"].append(n)
+            c["step"].append(step_ms)
+            c["setup"].append(num(r, "setup_s"))
+            c["kept"].append(num(r, "kept_MB"))
+    print("\nFitted log-log slopes against the contact nodes per foot (all sizes; in brackets"
+          " from 500 nodes on):\n")
+    print("| method | loop per step | set-up | kept operator |")
+    print("|---|---|---|---|")
+    for method, c in curves.items():
+        big = [i for i, n in enumerate(c["n"]) if n >= 500]
+        cols = []
+        for key in ("step", "setup", "kept"):
+            s_all = slope(c["n"], c[key])
+            s_big = slope([c["n"][i] for i in big], [c[key][i] for i in big])
+            cols.append(f"{s_all:.2f} ({s_big:.2f})")
+        print(f"| {method} | {' | '.join(cols)} |")
+    print()
+    return curves
+
+
+def hmatrix(out):
+    path = os.path.join(out, "hmatrix.txt")
+    if not os.path.exists(path):
+        return {}
+    line = re.compile(r"^\s*(0\.\d+)\s+(\d+)\s+([\d.]+)\s+([\d.]+)\s+\|\s+(\S+)\s+([\d.]+)\s+"
+                      r"([\d.]+)%\s+(\S+)\s+(\d+)\s+\|\s+([\d.]+)\s+(\d+)\S?\s+([\d.]+)\s+(\d+)")
+    rows = [m.groups() for m in map(line.match, open(path)) if m]
+    if not rows:
+        return {}
+    print("## One contact solve: dense against H-matrix compliance (hmatrix.txt)\n")
+    print("| h (m) | nodes | dense MB | tolerance | H MB | H / dense | rel. error | dense GS s |"
+          " H GS s |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    curves = {}
+    for g in rows:
+        print(f"| {g[0]} | {g[1]} | {g[3]} | {g[4]} | {g[5]} | {g[6]} % | {g[7]} | {g[9]} |"
+              f" {g[11]} |")
+        n = int(g[1])
+        curves.setdefault("dense GS solve", {}).setdefault(n, float(g[9]))
+        curves.setdefault(f"H-matrix {g[4]} GS solve", {})[n] = float(g[11])
+    print("\nFitted slopes of the solve time against the nodes:",
+          ", ".join(f"{k} {slope(list(v), list(v.values())):.2f}" for k, v in curves.items()))
+    print()
+    return curves
+
+
+def walk(out, name, title):
+    rows = [r for r in read(os.path.join(out, name, "work_precision.csv"))
+            if r["knob"] == "sole model"]
+    if not rows:
+        return
+    print(f"## {title}\n")
+    print("Estimate: the reduction error estimate of the sole (Sole/Reduction tolerance)."
+          " Errors against the full sole of the same mesh: filtered waist a_z peak (e_af), the"
+          " worst landing's impulse and peak force, centre-of-pressure path (largest distance,"
+          " mm), nodal normal force field (relative, worst and median frame, every 10 ms).\n")
+    print("| sole | contacts per foot | estimate | x real time | loop s/sim s | solve share | set-up s |"
+          " kept MB | e_af | e_J landing | e_F landing | CoP mm | field worst | field median |"
+          " landings |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        wall = num(r, "wall_per_sim_s")
+        share = num(r, "contact_solve") / wall if wall > 0 else math.nan
+        ref = r["reference"] == "1"
+        status = "" if r["status"] == "ok" else f" ({r['status'][:50]})"
+        est = num(r, "reduction_estimate")
+        print(f"| {r['value']}{status} | {r['contacts_per_foot']} |"
+              f" {'-' if math.isnan(est) else f'{est:.3g}'} | {1 / wall:.3g} | {wall:.3g} |"
+              f" {pct(share)} | {num(r, 'setup_s'):.3g} | {num(r, 'kept_MB'):.3g} |"
+              + (" reference |" * 6 if ref else
+                 f" {pct(num(r, 'e_af'))} | {pct(num(r, 'e_landing_impulse'))} |"
+                 f" {pct(num(r, 'e_landing_peak_force'))} | {1e3 * num(r, 'e_cop_m'):.3g} |"
+                 f" {pct(num(r, 'e_field_max'))} | {pct(num(r, 'e_field_median'))} |")
+              + f" {r['n_landings']} |")
+    print()
+
+
+def plot(out, curves, hcurves):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.5))
+    for method, c in curves.items():
+        a.loglog(c["n"], c["step"], "o-", label=f"{method}: loop (slope {slope(c['n'], c['step']):.2f})")
+        b.loglog(c["n"], c["setup"], "o-", label=f"{method} (slope {slope(c['n'], c['setup']):.2f})")
+    for method, v in hcurves.items():
+        a.loglog(list(v), [1e3 * t for t in v.values()], "s--",
+                 label=f"{method} (slope {slope(list(v), list(v.values())):.2f})")
+    a.set_xlabel("contact nodes per foot")
+    a.set_ylabel("ms per step (stand) / per solve (landing)")
+    a.grid(True, which="both", alpha=0.3)
+    a.legend(fontsize=7)
+    b.set_xlabel("contact nodes per foot")
+    b.set_ylabel("set-up s (mesh, assembly, condensation, robot)")
+    b.grid(True, which="both", alpha=0.3)
+    b.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "scaling.png"), dpi=120)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: table.py OUT_DIR")
+    out = sys.argv[1]
+    curves = scaling(out)
+    hcurves = hmatrix(out)
+    walk(out, "walk_1cm", "The six-step walk on the 1 cm sole (345 contact nodes per foot)")
+    walk(out, "walk_5mm", "The six-step walk on the 5 mm sole (1305 contact nodes per foot)")
+    plot(out, curves, hcurves)
+
+
+if __name__ == "__main__":
+    main()

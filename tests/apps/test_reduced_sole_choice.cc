@@ -1,0 +1,91 @@
+// Sole/Reduced patches = auto (issue 25): the humanoid scene builds the reduced sole whose
+// reduction error estimate meets Sole/Reduction tolerance, reports the grid and the estimate
+// in its summary, and falls back to the full sole (reached = false) when no grid does. The
+// numbers against coupling::choose_reduction on the same condensed sole, and against the
+// grid sizes of coupling::ReducedSole::grid_patches.
+#include "apps/condensed_sole_foot.h"
+#include "apps/humanoid_simulation.h"
+#include "apps/scene.h"
+#include "coupling/condensed_sole.h"
+#include "coupling/reduced_sole.h"
+#include "humanoid_test_utilities.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+namespace plantar::app {
+namespace {
+
+Scene auto_scene(const std::string& tolerance) {
+  return testing::load_humanoid_scene("stand", {{"Robot/Foot form", "fem sole"},
+                                                {"Sole/Reduced patches", "auto"},
+                                                {"Sole/Reduction tolerance", tolerance},
+                                                {"Simulation/Duration", "0.01"}});
+}
+
+TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
+  // The full sole of the same scene, for the expected choice.
+  Scene full = auto_scene("0.2");
+  full.sole_reduction = {};
+  HumanoidSimulation reference(full);
+  const int n = reference.summary().n_sole_nodes;
+  const auto& sole_foot = dynamic_cast<const CondensedSoleFoot&>(reference.foot_model());
+  const coupling::CondensedSole& sole = *sole_foot.sole();
+  for (const char* tolerance : {"0.5", "0.2", "0.05"}) {
+    const coupling::ReductionChoice expected = coupling::choose_reduction(
+        sole.contact_positions(), sole.compliance(), std::stod(tolerance));
+    HumanoidSimulation simulation(auto_scene(tolerance));
+    simulation.run();
+    const HumanoidSummary& s = simulation.summary();
+    std::printf("tolerance %s: grid %d x %d, %d contacts per foot (full %d), estimate %.4f, "
+                "reached %d\n",
+                tolerance, s.sole_reduction_x, s.sole_reduction_y, s.n_sole_nodes, n,
+                s.sole_reduction_estimate, s.sole_reduction_reached);
+    EXPECT_EQ(s.sole_reduction_x, expected.grid);
+    EXPECT_EQ(s.sole_reduction_y, expected.grid);
+    EXPECT_EQ(s.sole_reduction_reached, expected.reached);
+    EXPECT_DOUBLE_EQ(s.sole_reduction_estimate, expected.estimate);
+    if (expected.reached) {
+      const auto patches = coupling::ReducedSole::grid_patches(sole.contact_positions(),
+                                                               expected.grid, expected.grid);
+      EXPECT_EQ(s.n_sole_nodes, *std::max_element(patches.begin(), patches.end()) + 1);
+      EXPECT_LE(s.sole_reduction_estimate, std::stod(tolerance));
+      EXPECT_GT(s.sole_reduction_estimate, 0.0);
+    } else {
+      EXPECT_EQ(s.n_sole_nodes, n);
+      EXPECT_EQ(s.sole_reduction_estimate, 0.0);
+    }
+    EXPECT_NEAR(s.simulated_time, 0.01, 1e-9);
+  }
+}
+
+TEST(ReducedSoleChoice, GivenGridReportsItsEstimate) {
+  Scene scene = auto_scene("0.2");
+  scene.sole_reduction.automatic = false;
+  scene.sole_reduction.patches_x = scene.sole_reduction.patches_y = 2;
+  HumanoidSimulation simulation(scene);
+  // The 3 cm sole's 2 x 2 estimate (test reduced_sole: 0.28).
+  EXPECT_NEAR(simulation.summary().sole_reduction_estimate, 0.28, 0.01);
+  EXPECT_EQ(simulation.summary().sole_reduction_x, 2);
+}
+
+TEST(ReducedSoleChoice, BadEntriesAreNamed) {
+  for (const auto& [entry, value] : std::vector<std::pair<std::string, std::string>>{
+           {"Sole/Reduction tolerance", "0"}, {"Sole/Reduced patches", "automatic"}}) {
+    try {
+      testing::load_humanoid_scene("stand", {{entry, value}});
+      ADD_FAILURE() << entry << " = " << value << " was accepted";
+    } catch (const std::exception& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(entry.substr(5)), std::string::npos) << what;
+      EXPECT_NE(what.find(value), std::string::npos) << what;
+    }
+  }
+}
+
+} // namespace
+} // namespace plantar::app
