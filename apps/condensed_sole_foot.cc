@@ -52,7 +52,7 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
     estimate = choice.estimate;
     reduction_reached_ = choice.reached;
     if (!choice.reached)
-      std::cerr << "warning: Sole/Reduced patches = auto: no grid of fewer patches than half the "
+      std::cerr << "warning: Sole/Reduced patches = auto: no grid of fewer patches than the "
                 << positions.rows()
                 << " contact nodes meets Sole/Reduction tolerance = " << reduction.tolerance
                 << "; the full condensed sole is used\n";

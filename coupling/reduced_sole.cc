@@ -130,8 +130,9 @@ ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
   const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(positions, compliance, origin);
   for (int g = 1;; g *= 2) {
     const ReducedSole reduced(positions, compliance, ReducedSole::grid_patches(positions, g, g));
-    if (2 * reduced.n_patches() > n)
-      break;
+    if (reduced.n_patches() == n)
+      break; // one node per patch: no reduction left
+
     const double estimate = reduction_error_estimate(k_full, reduced, origin);
     if (estimate <= tolerance)
       return {g, reduced.n_patches(), estimate, true};

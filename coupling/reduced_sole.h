@@ -84,8 +84,7 @@ struct ReductionChoice {
 
 /// The cheapest sole whose reduction_error_estimate is at most @p tolerance (> 0): the
 /// coarsest of the nested grids g x g, g = 1, 2, 4, ..., over the nodes' bounding box
-/// (grid_patches) with fewer than half as many patches as nodes; otherwise the full sole
-/// (reached = false). @p positions (n x 3, m) and @p compliance (3n x 3n, m/N) of the full
+/// (grid_patches) with fewer patches than nodes; otherwise the full sole (reached = false). @p positions (n x 3, m) and @p compliance (3n x 3n, m/N) of the full
 /// condensed sole; the origin is the nodes' centroid. Cost: one dense factorisation of C and
 /// one of each candidate's C_r. Throws std::invalid_argument on tolerance <= 0.
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,

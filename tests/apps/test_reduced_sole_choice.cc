@@ -35,7 +35,7 @@ TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
   const int n = reference.summary().n_sole_nodes;
   const auto& sole_foot = dynamic_cast<const CondensedSoleFoot&>(reference.foot_model());
   const coupling::CondensedSole& sole = *sole_foot.sole();
-  for (const char* tolerance : {"0.5", "0.2", "0.05"}) {
+  for (const char* tolerance : {"0.5", "0.2", "0.05", "0.01"}) {
     const coupling::ReductionChoice expected = coupling::choose_reduction(
         sole.contact_positions(), sole.compliance(), std::stod(tolerance));
     HumanoidSimulation simulation(auto_scene(tolerance));
