@@ -6,6 +6,8 @@
 #include "fem/field_output.h"
 #include "fem/material_table.h"
 
+#include <Eigen/Cholesky>
+
 #include <array>
 #include <iostream>
 
@@ -40,42 +42,101 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   condensation.attached_boundary = groups.surface("top");
   condensation.contact_boundary = groups.surface("bottom");
   condensation.degree = scene.sole.degree;
+  // A reduced sole (a grid, or auto) keeps the factorization of K instead of C: its C_r costs
+  // 3P solves, and its fields come from the patch forces (coupling/condensed_sole.h).
+  const SoleReductionParameters& reduction = scene.sole_reduction;
+  const bool reduce = reduction.automatic || reduction.patches_x > 0;
+  if (reduce)
+    condensation.form = coupling::CondensationParameters::Form::factorization;
   sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
   const auto& positions = sole_->contact_positions();
-  const SoleReductionParameters& reduction = scene.sole_reduction;
   int nx = reduction.patches_x, ny = reduction.patches_y;
   double estimate = -1; // computed below for a given grid
   if (reduction.automatic) {
     const coupling::ReductionChoice choice =
-        coupling::choose_reduction(positions, sole_->compliance(), reduction.tolerance);
+        coupling::choose_reduction(*sole_, reduction.tolerance, reduction.spacing);
     nx = ny = choice.grid;
     estimate = choice.estimate;
     reduction_reached_ = choice.reached;
-    if (!choice.reached)
+    if (!choice.reached) {
       std::cerr << "warning: Sole/Reduced patches = auto: no grid of fewer patches than the "
                 << positions.rows()
                 << " contact nodes meets Sole/Reduction tolerance = " << reduction.tolerance
                 << "; the full condensed sole is used\n";
+      condensation.form = coupling::CondensationParameters::Form::dense;
+      sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
+    }
   }
   if (nx == 0) {
     set_patch(positions.transpose(), sole_->compliance(), scene.sole.damping_time);
     return;
   }
   // Reduced sole: bottom nodes grouped into patches, one contact per patch with the
-  // patch-averaged compliance (coupling/reduced_sole.h). The stepper's contacts are no
-  // longer the FEM nodes, so the condensed sole is released (no field output).
-  const coupling::ReducedSole reduced(positions, sole_->compliance(),
-                                      coupling::ReducedSole::grid_patches(positions, nx, ny));
+  // patch-averaged compliance (coupling/reduced_sole.h).
+  reduced_ = std::make_unique<coupling::ReducedSole>(
+      *sole_, coupling::ReducedSole::grid_patches(positions, nx, ny, reduction.spacing));
+  reduced_factor_ = std::make_unique<Eigen::LDLT<Eigen::MatrixXd>>(reduced_->compliance());
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
   reduction_x_ = nx;
   reduction_y_ = ny;
   reduction_estimate_ =
-      estimate >= 0 ? estimate
-                    : coupling::reduction_error_estimate(
-                          coupling::rigid_motion_stiffness(positions, sole_->compliance(), origin),
-                          reduced, origin);
-  set_patch(reduced.patch_positions().transpose(), reduced.compliance(), scene.sole.damping_time);
-  sole_.reset();
+      estimate >= 0
+          ? estimate
+          : coupling::reduction_error_estimate(sole_->rigid_motion_stiffness(), *reduced_, origin);
+  set_patch(reduced_->patch_positions().transpose(), reduced_->compliance(),
+            scene.sole.damping_time);
+  if (!scene.output.write_vtu)
+    sole_->release_factorization(); // no fields to recover: keep C_r alone
+}
+
+bool CondensedSoleFoot::has_fields() const {
+  return !reduced_ || sole_->has_solver();
+}
+
+void CondensedSoleFoot::write_fields(int foot, const multibody::SE3& placement,
+                                     const std::filesystem::path& path) const {
+  if (!reduced_) {
+    SolePatchFoot::write_fields(foot, placement, path);
+    return;
+  }
+  // The reduced sole's patch displacements U (sole frame) are those of the patch forces
+  // F_e = C_r^-1 U (F_e = F without damping); shared by the patches' nodes, f = A F_e, they
+  // give the field u = K^-1 B f, whose patch means A^T u_c are U. The nodes' forces written
+  // are the model's, A F.
+  const coupling::PadState& state = pad(foot);
+  const Eigen::Matrix3d to_sole = placement.rotation.transpose();
+  const int n_p = reduced_->n_patches(), n = reduced_->n_nodes();
+  Eigen::VectorXd u_patch(3 * n_p);
+  Eigen::Matrix3Xd f_patch(3, n_p); // world
+  for (int j = 0; j < n_p; ++j) {
+    u_patch.segment<3>(3 * j) =
+        to_sole * state.node_to_world(j, state.displacement().segment<3>(3 * j));
+    f_patch.col(j) = state.node_to_world(j, state.node_force(j));
+  }
+  const Eigen::VectorXd f_elastic = reduced_factor_->solve(u_patch);
+  Eigen::VectorXd node_force(3 * n);
+  PadNodeState nodes{Eigen::Matrix3Xd(3, n), Eigen::Matrix3Xd(3, n)};
+  for (int k = 0; k < n; ++k) {
+    const int j = reduced_->patch_of_node()[k];
+    const double share = 1.0 / reduced_->patch_sizes()[j];
+    node_force.segment<3>(3 * k) = share * f_elastic.segment<3>(3 * j);
+    nodes.force.col(k) = share * f_patch.col(j);
+  }
+  sole_->displacement_of_forces(node_force, field_);
+  const auto& dofs = sole_->contact_dofs();
+  for (int k = 0; k < n; ++k)
+    nodes.displacement.col(k) =
+        placement.rotation *
+        Eigen::Vector3d(field_(dofs[k][0]), field_(dofs[k][1]), field_(dofs[k][2]));
+  const SoleMesh mesh = sole_mesh(foot);
+  const PadFieldMesh field_mesh{mesh.dof_handler, mesh.discretization, mesh.contact_dofs,
+                                &node_areas(foot)};
+  write_pad_fields(
+      field_mesh, nodes,
+      [this](const Eigen::VectorXd&, dealii::Vector<double>&) -> const dealii::Vector<double>& {
+        return field_;
+      },
+      *stress_postprocessor(foot), placement, path, cell_fields(foot));
 }
 
 void CondensedSoleFoot::summarize(HumanoidSummary& summary) const {

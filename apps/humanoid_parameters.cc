@@ -250,15 +250,31 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
           "> 0");
 }
 
+namespace {
+const ChoiceTable<coupling::GridSpacing>& spacing_table() {
+  static const ChoiceTable<coupling::GridSpacing> table{
+      {coupling::GridSpacing::uniform, "uniform"}, {coupling::GridSpacing::chebyshev, "chebyshev"}};
+  return table;
+}
+} // namespace
+
 void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
   const SoleReductionParameters d;
   prm.declare_entry("Reduced patches", "0", Anything(),
                     "fem sole: 0 = the full condensed sole (one contact per bottom node); "
                     "'nx, ny' (integers >= 1) = a reduced sole: the bottom nodes grouped by an nx "
                     "x ny grid over the sole into patches, one contact per patch with the "
-                    "patch-averaged compliance A^T C A (coupling/reduced_sole.h); 'auto' = the "
+                    "patch-averaged compliance A^T C A (coupling/reduced_sole.h; 3 nx ny solves "
+                    "with the kept factorization of K, no dense C; its fields recovered from the "
+                    "patch forces for ParaView); 'auto' = the "
                     "coarsest g x g grid (g = 1, 2, 4, ...) whose reduction error estimate meets "
                     "Sole/Reduction tolerance, or the full sole with a warning.");
+  prm.declare_entry("Reduction spacing", choice_name(spacing_table(), d.spacing),
+                    choice_pattern(spacing_table()),
+                    "fem sole, Reduced patches: the grid's cells equal (uniform) or graded "
+                    "towards the sole's edges, where a bonded layer's contact pressure peaks "
+                    "(chebyshev: cell edges at the Chebyshev-Lobatto points; "
+                    "coupling/reduced_sole.h).");
   prm.declare_entry("Reduction tolerance", number_text(d.tolerance), Double(0, 1),
                     "fem sole, Reduced patches = auto: the bound on the reduction error estimate "
                     "||D^-1/2 (K - K_r) D^-1/2||_2 (the relative error of the sole face's "
@@ -272,6 +288,7 @@ void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
   bool ok = false;
   patches_x = patches_y = 0;
   tolerance = prm.get_double("Reduction tolerance");
+  spacing = parse_choice(spacing_table(), prm.get("Reduction spacing"), "Sole/Reduction spacing");
   automatic = items.size() == 1 && (items[0] == "auto" || items[0] == "Auto");
   require(tolerance > 0 && tolerance < 1, "Sole/Reduction tolerance", tolerance, "(0, 1)");
   if (automatic)

@@ -6,6 +6,7 @@
 
 #include "apps/foot_model_registry.h"
 #include "contact/solver_settings.h"
+#include "coupling/reduced_sole.h"
 #include "fem/sole_parameters.h"
 #include "multibody/walking/balance_controller.h"
 #include "multibody/walking/footstep_plan.h"
@@ -61,6 +62,8 @@ struct SoleReductionParameters {
   /// (coupling::choose_reduction) is at most `tolerance`.
   bool automatic = false;
   double tolerance = 0.01; ///< Sole/Reduction tolerance, (0, 1)
+  /// Sole/Reduction spacing: the grid's cells equal or graded towards the sole's edges.
+  coupling::GridSpacing spacing = coupling::GridSpacing::uniform;
   bool reduced() const { return patches_x > 0 || automatic; }
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

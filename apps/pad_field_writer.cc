@@ -5,6 +5,9 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/numerics/data_out.h>
 
+#include <stdexcept>
+#include <string>
+
 namespace plantar::app {
 namespace {
 
@@ -76,18 +79,35 @@ void write_pad_fields(const PadFieldMesh& mesh, const coupling::PadState& pad,
                       const FieldRecovery& recover, const dealii::DataPostprocessor<3>& stress,
                       const multibody::SE3& placement, const std::filesystem::path& path,
                       const std::vector<PadCellField>& cell_fields) {
-  const Eigen::VectorXd& area = *mesh.node_areas;
-  const Eigen::Matrix3d& rotation = placement.rotation;  // mesh -> world
+  const int n_c = pad.n_nodes();
   const Eigen::VectorXd& u_contact = pad.displacement(); // (n, t1, t2) per node
+  PadNodeState nodes{Eigen::Matrix3Xd(3, n_c), Eigen::Matrix3Xd(3, n_c)};
+  for (int k = 0; k < n_c; ++k) {
+    nodes.displacement.col(k) = pad.node_to_world(k, u_contact.segment<3>(3 * k));
+    nodes.force.col(k) = pad.node_to_world(k, pad.node_force(k)); // at the step's end
+  }
+  write_pad_fields(mesh, nodes, recover, stress, placement, path, cell_fields);
+}
+
+void write_pad_fields(const PadFieldMesh& mesh, const PadNodeState& nodes,
+                      const FieldRecovery& recover, const dealii::DataPostprocessor<3>& stress,
+                      const multibody::SE3& placement, const std::filesystem::path& path,
+                      const std::vector<PadCellField>& cell_fields) {
+  const Eigen::VectorXd& area = *mesh.node_areas;
+  const Eigen::Matrix3d& rotation = placement.rotation; // mesh -> world
   const auto& dofs = *mesh.contact_dofs;
   const int n_c = static_cast<int>(dofs.size());
+  if (nodes.displacement.cols() != n_c || nodes.force.cols() != n_c)
+    throw std::invalid_argument("write_pad_fields: " + std::to_string(nodes.displacement.cols()) +
+                                " node displacements and " + std::to_string(nodes.force.cols()) +
+                                " forces for " + std::to_string(n_c) + " contact nodes");
   const auto n = static_cast<unsigned int>(mesh.dof_handler->n_dofs());
   dealii::Vector<double> contact_displacement(n), force(n), workspace;
   dealii::Vector<double> pressure(n); // (contact_pressure, contact_node flag, 0) per node
   Eigen::VectorXd contact_u(3 * n_c); // mesh frame
   for (int k = 0; k < n_c; ++k) {
-    const Eigen::Vector3d u = pad.node_to_world(k, u_contact.segment<3>(3 * k));
-    const Eigen::Vector3d f = pad.node_to_world(k, pad.node_force(k)); // at the step's end
+    const Eigen::Vector3d u = nodes.displacement.col(k);
+    const Eigen::Vector3d f = nodes.force.col(k);
     contact_u.segment<3>(3 * k) = rotation.transpose() * u;
     for (int d = 0; d < 3; ++d) {
       contact_displacement[dofs[k][d]] = u[d];

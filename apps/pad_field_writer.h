@@ -50,10 +50,22 @@ struct PadCellField {
 using FieldRecovery =
     std::function<const dealii::Vector<double>&(const Eigen::VectorXd&, dealii::Vector<double>&)>;
 
+/// The contact nodes' state written to the .vtu, world components (3 x n each): displacement
+/// (m) and force at the step's end (N).
+struct PadNodeState {
+  Eigen::Matrix3Xd displacement, force;
+};
+
 /// Writes @p pad's state on @p mesh as a .vtu at @p path (atomically): @p placement maps the
 /// mesh frame to the world; @p stress adds the material's fields; @p cell_fields more per-cell
 /// fields (e.g. a viscoelastic sole's dissipated energy density). Allocates (output steps only).
 void write_pad_fields(const PadFieldMesh& mesh, const coupling::PadState& pad,
+                      const FieldRecovery& recover, const dealii::DataPostprocessor<3>& stress,
+                      const multibody::SE3& placement, const std::filesystem::path& path,
+                      const std::vector<PadCellField>& cell_fields = {});
+/// The same from the contact nodes' state @p nodes (one column per node of @p mesh), for a
+/// model whose pad state is not per node (a reduced sole's patches).
+void write_pad_fields(const PadFieldMesh& mesh, const PadNodeState& nodes,
                       const FieldRecovery& recover, const dealii::DataPostprocessor<3>& stress,
                       const multibody::SE3& placement, const std::filesystem::path& path,
                       const std::vector<PadCellField>& cell_fields = {});

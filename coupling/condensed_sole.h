@@ -23,6 +23,18 @@
 // That factorization is released afterwards; the recovery keeps a
 // factorization of K_nn and applies u_n = -K_nn^-1 (K_nc u_c) on demand.
 //
+// With CondensationParameters::form = factorization, C is never formed: the
+// factorization of K is kept instead, and products with C come from solves,
+//
+//   A^T C A = (B A)^T K^-1 (B A)     (m solves for A of m columns),
+//   u = K^-1 B f_c                   (the field of contact forces f_c),
+//
+// with B (n_free x 3 n_c) the injection of the contact dofs: a reduced sole
+// (reduced_sole.h) of P patches costs 3 P solves instead of 3 n_c, and keeps
+// no dense 3 n_c x 3 n_c matrix. The rigid-motion stiffness of the contact
+// face, K_R = R^T K_c R (6 x 6, rigid_motion_stiffness()), is computed in both
+// forms without C: K_c R = [K x]_c with x_c = R, x_n = -K_nn^-1 K_nc R.
+//
 // A CondensedSole is constant after construction (like a Pinocchio Model):
 // contact node positions, C, optionally K_c, and the recovery operator. The
 // stepper takes contact_positions() and compliance() (sole frame); see
@@ -35,6 +47,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include <array>
 #include <cstddef>
@@ -45,6 +58,12 @@
 namespace plantar::coupling {
 
 struct CondensationParameters {
+  /// What the condensation keeps (see above).
+  enum class Form {
+    dense,        ///< C (3 n_c solves, 8 (3 n_c)^2 bytes) and the factor of K_nn
+    factorization ///< the factor of K, no C (compliance() is empty, recover() throws)
+  };
+  Form form = Form::dense;
   /// Boundary id of the attached face (the sole's "top"): u = 0 there.
   dealii::types::boundary_id attached_boundary = 0;
   /// Boundary id of the contact face (the sole's "bottom"): its nodes are the contact nodes.
@@ -75,8 +94,8 @@ struct CondensationMemory {
   std::size_t stiffness_bytes = 0;                  ///< dense K_c if stored
   std::size_t recovery_factorization_bytes = 0;     ///< CHOLMOD factor of K_nn (+ workspace)
   std::size_t sparse_matrix_bytes = 0;              ///< K_nn and K_nc (CSC) + deal.II K
-  std::size_t condensation_factorization_bytes = 0; ///< factor of K, freed after use
-  /// Bytes kept after construction.
+  std::size_t condensation_factorization_bytes = 0; ///< factor of K (kept by Form::factorization)
+  /// Bytes kept after construction (and after release_factorization()).
   std::size_t total() const {
     return compliance_bytes + stiffness_bytes + recovery_factorization_bytes + sparse_matrix_bytes;
   }
@@ -103,7 +122,29 @@ public:
   const Eigen::MatrixX3d& contact_positions() const { return contact_positions_; }
   /// C = K_c^-1, (3 n_c x 3 n_c), m/N, sole frame, node-major (rows 3k..3k+2 =
   /// x, y, z of node k); symmetric (symmetrized: see raw_asymmetry()) and SPD.
+  /// Empty with Form::factorization.
   const Eigen::MatrixXd& compliance() const { return compliance_; }
+  /// A^T C A (m x m, m/N) for @p aggregation A (3 n_c x m, dimensionless, node-major rows):
+  /// from C (Form::dense) or by m solves with the kept factor of K, in blocks of
+  /// parameters().block_size columns (Form::factorization); symmetrized. Allocates.
+  /// Throws std::invalid_argument on A's row count.
+  Eigen::MatrixXd
+  projected_compliance(const Eigen::SparseMatrix<double, Eigen::ColMajor, int>& aggregation) const;
+  /// The full displacement field (n_dofs, deal.II dof order, m) of the contact forces
+  /// @p contact_force f_c (3 n_c, N, sole frame, node-major): u = K^-1 B f_c, 0 on attached
+  /// dofs; its contact rows are C f_c. One solve (Form::factorization) or C f_c then recover()
+  /// (Form::dense). Allocates. Throws std::invalid_argument on size.
+  void displacement_of_forces(const Eigen::Ref<const Eigen::VectorXd>& contact_force,
+                              dealii::Vector<double>& displacement) const;
+  /// Form::factorization: frees the factor of K (no more projected_compliance or fields:
+  /// they throw std::logic_error), e.g. once a reduced sole is built and no field is written.
+  void release_factorization();
+  /// Whether the solves above are available (Form::dense, or a factor not released).
+  bool has_solver() const;
+  /// Stiffness of the contact face against rigid motions about the contact nodes' centroid
+  /// (6 x 6; N/m, N/rad, N m/rad): K_R = R^T C^-1 R with R_k = [I_3, -[x_k - x_0]_x],
+  /// x_0 = mean of contact_positions(); computed at construction through K_nn (both forms).
+  const Eigen::Matrix<double, 6, 6>& rigid_motion_stiffness() const { return rigid_stiffness_; }
   /// K_c, (3 n_c x 3 n_c), N/m; empty unless parameters.compute_stiffness.
   const Eigen::MatrixXd& stiffness() const { return stiffness_; }
   /// max |C - C^T| / max |C| of the computed C before symmetrization.
@@ -117,7 +158,8 @@ public:
   /// displacements: u_c on the contact dofs, u_n = -K_nn^-1 K_nc u_c on the
   /// others (one solve with the stored factorization), 0 on attached dofs.
   /// @param contact_displacement u_c, (3 n_c), m, sole frame, node-major.
-  /// Allocates (output, not per time step). Throws std::invalid_argument on size.
+  /// Allocates (output, not per time step). Throws std::invalid_argument on size,
+  /// std::logic_error with Form::factorization (no factor of K_nn kept).
   void recover(const Eigen::Ref<const Eigen::VectorXd>& contact_displacement,
                dealii::Vector<double>& displacement) const;
 
@@ -127,7 +169,7 @@ public:
   void contact_load(const Eigen::Vector3d& traction, Eigen::Ref<Eigen::VectorXd> forces) const;
 
   /// Writes the recovered field of @p contact_displacement with its strain
-  /// and stress to @p path (.vtu, fem/field_output.h). Not thread-safe.
+  /// and stress to @p path (.vtu, fem/field_output.h). Not thread-safe. Form::dense only.
   void write_vtu(const Eigen::Ref<const Eigen::VectorXd>& contact_displacement,
                  const std::filesystem::path& path) const;
 
@@ -144,6 +186,7 @@ private:
   std::vector<std::array<dealii::types::global_dof_index, 3>> contact_dofs_;
   Eigen::MatrixX3d contact_positions_;
   Eigen::MatrixXd compliance_, stiffness_;
+  Eigen::Matrix<double, 6, 6> rigid_stiffness_ = Eigen::Matrix<double, 6, 6>::Zero();
   double raw_asymmetry_ = 0;
   CondensationTimings timings_;
   CondensationMemory memory_;

@@ -1,5 +1,7 @@
 #include "coupling/reduced_sole.h"
 
+#include "coupling/condensed_sole.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
@@ -11,33 +13,72 @@
 
 namespace plantar::coupling {
 
-ReducedSole::ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
-                         const std::vector<int>& patch_of_node)
-    : patch_of_node_(patch_of_node) {
-  const int n = static_cast<int>(positions.rows());
-  if (n == 0 || compliance.rows() != 3 * n || compliance.cols() != 3 * n ||
-      static_cast<int>(patch_of_node.size()) != n) {
-    std::ostringstream msg;
-    msg << "ReducedSole: " << n << " nodes (allowed >= 1), compliance " << compliance.rows() << "x"
-        << compliance.cols() << " (expected " << 3 * n << " square), patch_of_node size "
-        << patch_of_node.size() << " (expected " << n << ")";
-    throw std::invalid_argument(msg.str());
-  }
+namespace {
+
+/// Sizes of the patches of @p patch_of_node; throws on a negative value or an empty patch.
+std::vector<int> patch_sizes_of(const std::vector<int>& patch_of_node) {
+  if (patch_of_node.empty())
+    throw std::invalid_argument("ReducedSole: no node (allowed >= 1)");
   const int p = *std::max_element(patch_of_node.begin(), patch_of_node.end()) + 1;
-  patch_sizes_.assign(p, 0);
-  for (int k = 0; k < n; ++k) {
+  std::vector<int> sizes(std::max(p, 0), 0);
+  for (std::size_t k = 0; k < patch_of_node.size(); ++k) {
     if (patch_of_node[k] < 0)
       throw std::invalid_argument("ReducedSole: patch_of_node[" + std::to_string(k) +
                                   "] = " + std::to_string(patch_of_node[k]) + ", allowed >= 0");
-    ++patch_sizes_[patch_of_node[k]];
+    ++sizes[patch_of_node[k]];
   }
   for (int j = 0; j < p; ++j)
-    if (patch_sizes_[j] == 0)
+    if (sizes[j] == 0)
       throw std::invalid_argument("ReducedSole: patch " + std::to_string(j) + " has no node");
+  return sizes;
+}
 
+} // namespace
+
+void ReducedSole::set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows) {
+  const int n = static_cast<int>(positions.rows());
+  if (n == 0 || n_compliance_rows != 3 * n || static_cast<int>(patch_of_node_.size()) != n) {
+    std::ostringstream msg;
+    msg << "ReducedSole: " << n << " nodes (allowed >= 1), compliance of " << n_compliance_rows
+        << " rows (expected " << 3 * n << "), patch_of_node size " << patch_of_node_.size()
+        << " (expected " << n << ")";
+    throw std::invalid_argument(msg.str());
+  }
+  patch_sizes_ = patch_sizes_of(patch_of_node_);
+  const int p = static_cast<int>(patch_sizes_.size());
   patch_positions_.setZero(p, 3);
   for (int k = 0; k < n; ++k)
-    patch_positions_.row(patch_of_node[k]) += positions.row(k) / patch_sizes_[patch_of_node[k]];
+    patch_positions_.row(patch_of_node_[k]) += positions.row(k) / patch_sizes_[patch_of_node_[k]];
+}
+
+Eigen::SparseMatrix<double, Eigen::ColMajor, int>
+ReducedSole::aggregation(const std::vector<int>& patch_of_node) {
+  const std::vector<int> sizes = patch_sizes_of(patch_of_node);
+  const int n = static_cast<int>(patch_of_node.size()), p = static_cast<int>(sizes.size());
+  std::vector<Eigen::Triplet<double, int>> entries;
+  entries.reserve(3 * n);
+  for (int k = 0; k < n; ++k)
+    for (int d = 0; d < 3; ++d)
+      entries.emplace_back(3 * k + d, 3 * patch_of_node[k] + d, 1.0 / sizes[patch_of_node[k]]);
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> a(3 * n, 3 * p);
+  a.setFromTriplets(entries.begin(), entries.end());
+  return a;
+}
+
+ReducedSole::ReducedSole(const CondensedSole& sole, const std::vector<int>& patch_of_node)
+    : patch_of_node_(patch_of_node) {
+  set_patches(sole.contact_positions(), 3 * sole.n_contacts());
+  compliance_ = sole.projected_compliance(aggregation(patch_of_node_));
+}
+
+ReducedSole::ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
+                         const std::vector<int>& patch_of_node)
+    : patch_of_node_(patch_of_node) {
+  if (compliance.rows() != compliance.cols())
+    throw std::invalid_argument("ReducedSole: compliance " + std::to_string(compliance.rows()) +
+                                "x" + std::to_string(compliance.cols()) + " is not square");
+  set_patches(positions, static_cast<int>(compliance.rows()));
+  const int n = n_nodes(), p = n_patches();
 
   // C A (3n x 3P): column block j sums the node columns of patch j, divided by n_j.
   Eigen::MatrixXd ca = Eigen::MatrixXd::Zero(3 * n, 3 * p);
@@ -54,7 +95,8 @@ ReducedSole::ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixX
   compliance_ = 0.5 * (compliance_ + compliance_.transpose()).eval();
 }
 
-std::vector<int> ReducedSole::grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny) {
+std::vector<int> ReducedSole::grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny,
+                                           GridSpacing spacing) {
   if (nx < 1 || ny < 1 || positions.rows() == 0) {
     std::ostringstream msg;
     msg << "ReducedSole::grid_patches: grid " << nx << " x " << ny << " (allowed >= 1 x 1), "
@@ -63,10 +105,14 @@ std::vector<int> ReducedSole::grid_patches(const Eigen::MatrixX3d& positions, in
   }
   const Eigen::RowVector3d lo = positions.colwise().minCoeff();
   const Eigen::RowVector3d hi = positions.colwise().maxCoeff();
-  auto cell = [](double x, double a, double b, int m) {
+  // The cell of x in [a, b] split into m cells: uniform, or at the Chebyshev-Lobatto points
+  // s_i = (1 - cos(pi i / m)) / 2, i.e. i = m acos(1 - 2 s) / pi for s = (x - a) / (b - a).
+  auto cell = [spacing](double x, double a, double b, int m) {
     if (!(b > a))
       return 0;
-    return std::clamp(static_cast<int>(std::floor((x - a) / (b - a) * m)), 0, m - 1);
+    const double s = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    const double t = spacing == GridSpacing::uniform ? s : std::acos(1 - 2 * s) / M_PI;
+    return std::clamp(static_cast<int>(std::floor(t * m)), 0, m - 1);
   };
   const int n = static_cast<int>(positions.rows());
   std::vector<int> cell_of_node(n), renumber(nx * ny, -1), patch(n);
@@ -120,24 +166,45 @@ double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
   return eigen.eigenvalues().cwiseAbs().maxCoeff();
 }
 
-ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
-                                 const Eigen::MatrixXd& compliance, double tolerance) {
+namespace {
+
+/// The loop of choose_reduction: @p reduce builds the reduced sole of a patch assignment.
+template <class Reduce>
+ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
+                            const Eigen::Matrix<double, 6, 6>& k_full, double tolerance,
+                            GridSpacing spacing, const Reduce& reduce) {
   if (!(tolerance > 0))
     throw std::invalid_argument("choose_reduction: tolerance " + std::to_string(tolerance) +
                                 ", allowed > 0");
   const int n = static_cast<int>(positions.rows());
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
-  const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(positions, compliance, origin);
   for (int g = 1;; g *= 2) {
-    const ReducedSole reduced(positions, compliance, ReducedSole::grid_patches(positions, g, g));
-    if (reduced.n_patches() == n)
+    const std::vector<int> patches = ReducedSole::grid_patches(positions, g, g, spacing);
+    if (*std::max_element(patches.begin(), patches.end()) + 1 == n)
       break; // one node per patch: no reduction left
-
+    const ReducedSole reduced = reduce(patches);
     const double estimate = reduction_error_estimate(k_full, reduced, origin);
     if (estimate <= tolerance)
       return {g, reduced.n_patches(), estimate, true};
   }
   return {0, n, 0.0, false};
+}
+
+} // namespace
+
+ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
+                                 const Eigen::MatrixXd& compliance, double tolerance,
+                                 GridSpacing spacing) {
+  const Eigen::Vector3d origin = positions.colwise().mean().transpose();
+  const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(positions, compliance, origin);
+  return choose_grid(positions, k_full, tolerance, spacing, [&](const std::vector<int>& patches) {
+    return ReducedSole(positions, compliance, patches);
+  });
+}
+
+ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance, GridSpacing spacing) {
+  return choose_grid(sole.contact_positions(), sole.rigid_motion_stiffness(), tolerance, spacing,
+                     [&](const std::vector<int>& patches) { return ReducedSole(sole, patches); });
 }
 
 } // namespace plantar::coupling

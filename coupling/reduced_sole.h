@@ -16,14 +16,25 @@
 // C_r = C. (R maps a rigid motion to node displacements, R_r the same at the patch centres.)
 //
 // Patches from a grid: the nodes' bounding box in the sole's x-y plane split into nx x ny
-// equal cells; empty cells are dropped. Grids whose nx, ny double are nested.
-// Eigen only; constant after construction.
+// cells, equal (GridSpacing::uniform) or graded towards the edges, where the contact pressure
+// of a bonded layer peaks (GridSpacing::chebyshev: cell edges at the Chebyshev-Lobatto points
+// lo + (hi - lo)(1 - cos(pi i / m)) / 2, i = 0..m); empty cells are dropped. Grids whose nx, ny
+// double are nested in either spacing.
+// Built from the dense C, or from a CondensedSole's factorization of K (Form::factorization):
+// C_r = (B A)^T K^-1 (B A) by 3P solves, without C (condensed_sole.h). Constant after
+// construction.
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include <vector>
 
 namespace plantar::coupling {
+
+class CondensedSole;
+
+/// How grid_patches() spaces its cells (see above).
+enum class GridSpacing { uniform, chebyshev };
 
 class ReducedSole {
 public:
@@ -33,9 +44,20 @@ public:
   /// an empty patch.
   ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
               const std::vector<int>& patch_of_node);
+  /// The same from @p sole's projected_compliance (either form; 3P solves with
+  /// Form::factorization). Same throws.
+  ReducedSole(const CondensedSole& sole, const std::vector<int>& patch_of_node);
 
-  /// Patches from an @p nx x @p ny grid over the nodes' x-y bounding box (nx, ny >= 1).
-  static std::vector<int> grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny);
+  /// A (3n x 3P, sparse, dimensionless): A_kj = I_3 / n_j for node k in patch j, P the largest
+  /// value of @p patch_of_node plus one. Throws std::invalid_argument on an empty patch or a
+  /// negative value.
+  static Eigen::SparseMatrix<double, Eigen::ColMajor, int>
+  aggregation(const std::vector<int>& patch_of_node);
+
+  /// Patches from an @p nx x @p ny grid over the nodes' x-y bounding box (nx, ny >= 1), its
+  /// cells spaced by @p spacing.
+  static std::vector<int> grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny,
+                                       GridSpacing spacing = GridSpacing::uniform);
 
   int n_patches() const { return static_cast<int>(patch_positions_.rows()); }
   int n_nodes() const { return static_cast<int>(patch_of_node_.size()); }
@@ -48,6 +70,9 @@ public:
   const std::vector<int>& patch_sizes() const { return patch_sizes_; }
 
 private:
+  /// Patch sizes and centres; checks the sizes.
+  void set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows);
+
   std::vector<int> patch_of_node_, patch_sizes_;
   Eigen::MatrixX3d patch_positions_;
   Eigen::MatrixXd compliance_;
@@ -84,10 +109,16 @@ struct ReductionChoice {
 
 /// The cheapest sole whose reduction_error_estimate is at most @p tolerance (> 0): the
 /// coarsest of the nested grids g x g, g = 1, 2, 4, ..., over the nodes' bounding box
-/// (grid_patches) with fewer patches than nodes; otherwise the full sole (reached = false). @p positions (n x 3, m) and @p compliance (3n x 3n, m/N) of the full
+/// (grid_patches, @p spacing) with fewer patches than nodes; otherwise the full sole
+/// (reached = false). @p positions (n x 3, m) and @p compliance (3n x 3n, m/N) of the full
 /// condensed sole; the origin is the nodes' centroid. Cost: one dense factorisation of C and
 /// one of each candidate's C_r. Throws std::invalid_argument on tolerance <= 0.
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
-                                 const Eigen::MatrixXd& compliance, double tolerance);
+                                 const Eigen::MatrixXd& compliance, double tolerance,
+                                 GridSpacing spacing = GridSpacing::uniform);
+/// The same from @p sole (either form): its rigid_motion_stiffness() and each candidate's
+/// projected_compliance (3P solves with Form::factorization, no dense C).
+ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance,
+                                 GridSpacing spacing = GridSpacing::uniform);
 
 } // namespace plantar::coupling

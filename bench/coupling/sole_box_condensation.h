@@ -12,8 +12,11 @@
 namespace plantar::bench {
 
 /// The condensed sole at mesh size @p mesh_size (m), the 3 n_c solves in blocks of
-/// @p block_size right-hand sides; meshes cached in ./mesh-cache.
-inline coupling::CondensedSole condense_sole_box(double mesh_size, int block_size = 64) {
+/// @p block_size right-hand sides, or (@p form = factorization) the factor of K kept instead
+/// of C; meshes cached in ./mesh-cache.
+inline coupling::CondensedSole condense_sole_box(
+    double mesh_size, int block_size = 64,
+    coupling::CondensationParameters::Form form = coupling::CondensationParameters::Form::dense) {
   fem::MeshRequest request;
   request.geo_file = std::filesystem::path(PLANTAR_SOURCE_DIR) / "meshes" / "sole_box.geo";
   request.numbers = {{"SoleMeshSize", mesh_size}, {"SoleHex", 1}};
@@ -25,6 +28,7 @@ inline coupling::CondensedSole condense_sole_box(double mesh_size, int block_siz
   parameters.attached_boundary = groups.surface("top");
   parameters.contact_boundary = groups.surface("bottom");
   parameters.block_size = block_size;
+  parameters.form = form;
   return coupling::CondensedSole(tria, materials, parameters);
 }
 

@@ -9,8 +9,9 @@
 // the sole model knob's grids (default 2, 3, 4, 6, 8); --mesh-patches G: one more knob per G,
 // "mesh reduced GxG", the mesh sizes on a G x G reduced sole (cost against contact nodes,
 // bench/fine_sole/); --auto TOL: sole model rows "auto TOL" (Sole/Reduced patches = auto,
-// Sole/Reduction tolerance = TOL).
-// For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole
+// Sole/Reduction tolerance = TOL); --graded-patches G and --graded-auto TOL: the same on
+// Chebyshev-graded grids (Sole/Reduction spacing = chebyshev), rows "graded GxG", "graded auto
+// TOL". For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole
 // scene unless given), one knob at a time is varied from the scene's own setting, the others
 // kept: sole mesh size, element degree, time step, the time step with the theta = 1/2 stepper
 // on a Kelvin-Voigt sole ("damped theta 1/2 dt"), contact solver tolerance, sole model
@@ -100,6 +101,7 @@ struct Result {
   double solve_time = NAN, pass_time = NAN, operator_bytes = 0;
   // Issue 25's quantities of interest. patches: the reduced grid (0: the full sole).
   int patches_x = 0, patches_y = 0;
+  coupling::GridSpacing spacing = coupling::GridSpacing::uniform; // of the reduced grid
   double peak_af = 0;                           // filtered waist |a_z| peak, m/s^2
   std::array<std::vector<Landing>, 2> landings; // right, left
   Eigen::Matrix3Xd nodes;                       // contact points of a foot (sole frame, m)
@@ -227,6 +229,7 @@ void run_one(const Scene& scene, Result& result, int repeat, double frame_every)
         result.landings[foot] = simulation.landings(foot);
       result.patches_x = summary.sole_reduction_x;
       result.patches_y = summary.sole_reduction_y;
+      result.spacing = scene.sole_reduction.spacing;
       result.reduction_estimate = summary.sole_reduction_estimate;
       if (fem) {
         const auto& sole = dynamic_cast<const SolePatchFoot&>(simulation.foot_model());
@@ -341,8 +344,8 @@ void compare_issue25(Result& r, const Result& ref) {
   std::vector<int> patch_of_node;
   std::vector<double> patch_size;
   if (r.patches_x > 0) {
-    patch_of_node =
-        coupling::ReducedSole::grid_patches(ref.nodes.transpose(), r.patches_x, r.patches_y);
+    patch_of_node = coupling::ReducedSole::grid_patches(ref.nodes.transpose(), r.patches_x,
+                                                        r.patches_y, r.spacing);
     patch_size.assign(r.nodes.cols(), 0.0);
     for (const int j : patch_of_node)
       patch_size.at(j) += 1;
@@ -468,6 +471,8 @@ int main(int argc, char** argv) {
   std::vector<double> patches;         // --patches: the sole model knob's grids g x g
   std::vector<double> mesh_patches;    // --mesh-patches: a mesh knob per reduced grid g x g
   std::vector<double> auto_tolerances; // --auto: sole model rows with Reduced patches = auto
+  std::vector<double> graded_patches;  // --graded-patches: sole model rows, Chebyshev grids
+  std::vector<double> graded_auto;     // --graded-auto: auto rows on Chebyshev grids
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc)
@@ -494,6 +499,10 @@ int main(int argc, char** argv) {
       mesh_patches = number_list(argv[++i]);
     else if (a == "--auto" && i + 1 < argc)
       auto_tolerances = number_list(argv[++i]);
+    else if (a == "--graded-patches" && i + 1 < argc)
+      graded_patches = number_list(argv[++i]);
+    else if (a == "--graded-auto" && i + 1 < argc)
+      graded_auto = number_list(argv[++i]);
     else if (a == "--only" && i + 1 < argc) {
       std::string list = argv[++i];
       for (std::size_t start = 0; start <= list.size();) {
@@ -507,7 +516,8 @@ int main(int argc, char** argv) {
       std::cerr << "usage: work_precision SCENE.prm ... --out DIR [--repeat R] "
                    "[--duration-drop S] [--duration-walk S] [--duration S] [--base-only] "
                    "[--no-hyperelastic] [--only KNOB,...] [--mesh-sizes H,...] [--patches G,...] "
-                   "[--mesh-patches G,...] [--auto TOL,...] [--frame-every S]\n";
+                   "[--mesh-patches G,...] [--auto TOL,...] [--graded-patches G,...] "
+                   "[--graded-auto TOL,...] [--frame-every S]\n";
       return 1;
     }
   }
@@ -644,6 +654,21 @@ int main(int argc, char** argv) {
                        s.sole_reduction = {};
                        s.sole_reduction.automatic = true;
                        s.sole_reduction.tolerance = tolerance;
+                     }});
+      for (const double p : graded_patches)
+        v.push_back({"sole model",
+                     "graded " + std::to_string(int(p)) + "x" + std::to_string(int(p)),
+                     [g = int(p)](Scene& s) {
+                       s.sole_reduction.patches_x = g;
+                       s.sole_reduction.patches_y = g;
+                       s.sole_reduction.spacing = coupling::GridSpacing::chebyshev;
+                     }});
+      for (const double tolerance : graded_auto)
+        v.push_back({"sole model", "graded auto " + fmt(tolerance, "%.3g"), [tolerance](Scene& s) {
+                       s.sole_reduction = {};
+                       s.sole_reduction.automatic = true;
+                       s.sole_reduction.tolerance = tolerance;
+                       s.sole_reduction.spacing = coupling::GridSpacing::chebyshev;
                      }});
       v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
       knobs.push_back(v);

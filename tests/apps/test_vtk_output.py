@@ -2,7 +2,8 @@
 """The ParaView series of a humanoid run, read back with VTK's own XML readers (python3-vtk9).
 
 Runs `plantar run tests/apps/test_vtk_output.prm` (stand on linear FEM soles, 0.2 s, a frame
-every 50 steps) and `tests/apps/test_vtk_output_hyperelastic.prm` (Neo-Hookean soles,
+every 50 steps), `tests/apps/test_vtk_output_reduced.prm` (the same soles reduced to 4 x 4
+patches, fields recovered from the patch forces) and `tests/apps/test_vtk_output_hyperelastic.prm` (Neo-Hookean soles,
 Sole/Model = hyperelastic, 0.15 s, a Newton check of the sole at every step) and checks, frame by
 frame, against quantities computed elsewhere:
   - the series: parameters.prm and the CSVs are there, the .pvd lists one frame per 50 steps
@@ -242,6 +243,11 @@ def main():
     linear = run_case(args.plantar, source, work / "linear", "test_vtk_output.prm", 0.2, 1e-5)
     hyper = run_case(args.plantar, source, work / "hyperelastic",
                      "test_vtk_output_hyperelastic.prm", 0.15, 0.02)
+    # The reduced sole's fields, recovered from its patch forces: the same checks (the nodal
+    # forces A F sum to the foot force, the field's bottom nodes carry the written contact
+    # displacement, loaded nodes on the ground and in the cone).
+    reduced = run_case(args.plantar, source, work / "reduced", "test_vtk_output_reduced.prm",
+                       0.2, 1e-5)
     # Output/VTK collection every = 2: the .pvd collections rewritten every second frame and
     # after the last one end the same, byte for byte, as when rewritten at every frame.
     decimated = work / "collection_every"
@@ -267,6 +273,9 @@ def main():
         dev = max(abs(hyper[k] - linear[k]) / linear[k] for k in hyper if k[0] > 0)
         print("max |peak von Mises hyperelastic / linear - 1| = %.2e" % dev)
         check(dev < 0.02, f"peak von Mises hyperelastic vs linear sole: {dev:.2e}")
+    if linear and reduced:
+        dev = max(abs(reduced[k] - linear[k]) / linear[k] for k in reduced if k[0] > 0)
+        print("max |peak von Mises reduced 4 x 4 / full - 1| = %.2e" % dev)
     for f in failures:
         print("FAIL:", f)
     return 1 if failures else 0

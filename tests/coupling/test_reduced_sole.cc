@@ -6,7 +6,14 @@
 //  * on nested grids 1x1, 2x2, 4x4, ... the rigid-motion stiffness K_r = R_r^T C_r^-1 R_r
 //    stays below the full K = R^T C^-1 R in the Loewner order and approaches it
 //    monotonically (complementary energy: patch-wise constant forces are a subspace), so the
-//    scaled error ||D^-1/2 (K - K_r) D^-1/2||_2, D = diag(K), decreases to round-off.
+//    scaled error ||D^-1/2 (K - K_r) D^-1/2||_2, D = diag(K), decreases to round-off;
+//  * the factorization form (no dense C) gives the same C_r, rigid stiffness, choice and
+//    fields as the dense one;
+//  * the field recovered from a reduced sole's patch forces (u = K^-1 B A F) differs from the
+//    full sole's under the same rigid motion a of the contact face by exactly the stiffness
+//    gap: ||u - u_r||_K^2 = a^T (K_R - K_r) a (Galerkin orthogonality of the complementary
+//    energy), so its relative energy error in a coordinate direction is at most the square
+//    root of the reduction error estimate.
 
 #include "condensation_test_utilities.h"
 #include "coupling/reduced_sole.h"
@@ -17,20 +24,40 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
 namespace plantar::coupling {
 namespace {
 
-CondensedSole make_sole() {
+CondensedSole make_sole(CondensationParameters::Form form = CondensationParameters::Form::dense,
+                        unsigned int degree = 1) {
   dealii::Triangulation<3> tria;
   const auto groups = testing::load_sole_mesh(tria, {{"SoleMeshSize", 0.03}, {"SoleHex", 0}});
   const fem::MaterialTable materials(fem::LinearElasticMaterial(4e6, 0.3, "rubber"));
   CondensationParameters parameters;
   parameters.attached_boundary = groups.surface("top");
   parameters.contact_boundary = groups.surface("bottom");
+  parameters.form = form;
+  parameters.degree = degree;
+  parameters.block_size = 7; // several blocks, the last one partial
   return CondensedSole(tria, materials, parameters);
+}
+
+/// R (3n x 6): node displacements of the rigid motions about @p origin.
+Eigen::MatrixXd rigid_motions(const Eigen::MatrixX3d& x, const Eigen::Vector3d& origin) {
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * x.rows(), 6);
+  for (Eigen::Index k = 0; k < x.rows(); ++k) {
+    const Eigen::Vector3d d = x.row(k).transpose() - origin;
+    r.block<3, 3>(3 * k, 0).setIdentity();
+    r.block<3, 3>(3 * k, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
+  }
+  return r;
+}
+
+double relative_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  return (a - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
 }
 
 /// Dense A (3n x 3P), A_kj = I / n_j for node k in patch j.
@@ -154,8 +181,9 @@ TEST(ReducedSole, ChoiceMeetsTheToleranceAtTheLeastCost) {
       EXPECT_LE(choice.estimate, tolerance);
       EXPECT_NEAR(choice.estimate, estimate(choice.grid), 1e-12);
       EXPECT_LT(choice.n_patches, sole.n_contacts());
-      if (choice.grid > 1)
+      if (choice.grid > 1) {
         EXPECT_GT(estimate(choice.grid / 2), tolerance) << "a coarser grid meets it";
+      }
     } else {
       EXPECT_EQ(choice.grid, 0);
       EXPECT_EQ(choice.n_patches, sole.n_contacts());
@@ -170,6 +198,195 @@ TEST(ReducedSole, ChoiceMeetsTheToleranceAtTheLeastCost) {
   EXPECT_EQ(choose_reduction(x, sole.compliance(), 0.05).grid, 8);
   EXPECT_FALSE(choose_reduction(x, sole.compliance(), 0.01).reached);
   EXPECT_THROW(choose_reduction(x, sole.compliance(), 0.0), std::invalid_argument);
+}
+
+TEST(ReducedSole, FactorizationFormEqualsDenseForm) {
+  using Form = CondensationParameters::Form;
+  for (const unsigned int degree : {1u, 2u}) {
+    const CondensedSole dense = make_sole(Form::dense, degree);
+    const CondensedSole factored = make_sole(Form::factorization, degree);
+    const Eigen::MatrixX3d& x = dense.contact_positions();
+    const Eigen::MatrixXd& c = dense.compliance();
+    const int n = dense.n_contacts();
+    EXPECT_EQ(factored.compliance().size(), 0);
+    EXPECT_GT(factored.memory().recovery_factorization_bytes, 0u);
+    EXPECT_EQ(factored.memory().compliance_bytes, 0u);
+    // K_R through K_nn (both forms) against R^T C^-1 R from the dense C.
+    const Eigen::Vector3d origin = x.colwise().mean().transpose();
+    const Eigen::Matrix<double, 6, 6> k_dense = rigid_motion_stiffness(x, c, origin);
+    const double e_rigid = relative_difference(dense.rigid_motion_stiffness(), k_dense);
+    const double e_rigid_f = relative_difference(factored.rigid_motion_stiffness(), k_dense);
+    // C_r by 3P solves against A^T C A, and the identity patches' C_r = C.
+    double e_reduced = 0;
+    std::vector<int> identity(n);
+    for (int k = 0; k < n; ++k)
+      identity[k] = k;
+    std::vector<std::vector<int>> assignments{identity};
+    for (const int g : {1, 2, 3, 5})
+      assignments.push_back(ReducedSole::grid_patches(x, g, g));
+    for (const auto& patches : assignments) {
+      const ReducedSole from_c(x, c, patches), from_k(factored, patches);
+      e_reduced =
+          std::max(e_reduced, relative_difference(from_k.compliance(), from_c.compliance()));
+      EXPECT_LT((from_k.patch_positions() - from_c.patch_positions()).cwiseAbs().maxCoeff(), 1e-15);
+    }
+    // Fields of the same contact forces.
+    const Eigen::VectorXd f = Eigen::VectorXd::Random(3 * n);
+    dealii::Vector<double> u_dense, u_factored;
+    dense.displacement_of_forces(f, u_dense);
+    factored.displacement_of_forces(f, u_factored);
+    u_factored -= u_dense;
+    const double e_field = u_factored.linfty_norm() / u_dense.linfty_norm();
+    const Eigen::VectorXd u_c = c * f;
+    double e_contact = 0;
+    for (int k = 0; k < n; ++k)
+      for (int d = 0; d < 3; ++d)
+        e_contact =
+            std::max(e_contact, std::abs(u_dense(dense.contact_dofs()[k][d]) - u_c(3 * k + d)));
+    e_contact /= u_c.cwiseAbs().maxCoeff();
+    std::printf("P%u, %d nodes: K_R dense %.1e, factorization %.1e; C_r %.1e; field %.1e; "
+                "contact rows of the field vs C f %.1e; factor kept %.2f MB against C %.2f MB\n",
+                degree, n, e_rigid, e_rigid_f, e_reduced, e_field, e_contact,
+                factored.memory().recovery_factorization_bytes / 1e6,
+                dense.memory().compliance_bytes / 1e6);
+    EXPECT_LT(e_rigid, 1e-9);
+    EXPECT_LT(e_rigid_f, 1e-9);
+    EXPECT_LT(e_reduced, 1e-11);
+    EXPECT_LT(e_field, 1e-11);
+    EXPECT_LT(e_contact, 1e-12);
+    // The same choice of grid from either form.
+    for (const double tolerance : {0.5, 0.2, 0.05, 0.01}) {
+      const ReductionChoice a = choose_reduction(x, c, tolerance);
+      const ReductionChoice b = choose_reduction(factored, tolerance);
+      EXPECT_EQ(a.grid, b.grid) << tolerance;
+      EXPECT_EQ(a.reached, b.reached) << tolerance;
+      EXPECT_NEAR(a.estimate, b.estimate, 1e-9) << tolerance;
+    }
+    dealii::Vector<double> field;
+    EXPECT_THROW(factored.recover(Eigen::VectorXd::Zero(3 * n), field), std::logic_error);
+    EXPECT_THROW(factored.displacement_of_forces(Eigen::VectorXd::Zero(3), field),
+                 std::invalid_argument);
+    EXPECT_THROW(factored.projected_compliance(ReducedSole::aggregation({0, 0, 1})),
+                 std::invalid_argument);
+  }
+  // Released factorization: C_r kept by the caller, the sole answers no more solves.
+  CondensedSole released = make_sole(CondensationParameters::Form::factorization);
+  const std::size_t kept = released.memory().total();
+  EXPECT_TRUE(released.has_solver());
+  released.release_factorization();
+  EXPECT_FALSE(released.has_solver());
+  EXPECT_LT(released.memory().total(), kept);
+  dealii::Vector<double> field;
+  EXPECT_THROW(
+      released.displacement_of_forces(Eigen::VectorXd::Zero(3 * released.n_contacts()), field),
+      std::logic_error);
+  EXPECT_THROW(ReducedSole(released, ReducedSole::grid_patches(released.contact_positions(), 2, 2)),
+               std::logic_error);
+  CondensationParameters bad;
+  bad.form = CondensationParameters::Form::factorization;
+  bad.compute_stiffness = true;
+  EXPECT_THROW(bad.validate(), std::invalid_argument);
+}
+
+TEST(ReducedSole, RecoveredFieldErrorIsTheStiffnessGap) {
+  const CondensedSole full = make_sole();
+  const CondensedSole factored = make_sole(CondensationParameters::Form::factorization);
+  const Eigen::MatrixX3d& x = full.contact_positions();
+  const Eigen::Vector3d origin = x.colwise().mean().transpose();
+  const Eigen::MatrixXd r = rigid_motions(x, origin);
+  const Eigen::Matrix<double, 6, 6>& k_full = full.rigid_motion_stiffness();
+  const dealii::SparseMatrix<double>& k = full.elasticity().stiffness_matrix();
+  double worst_identity = 0, worst_ratio = 0;
+  for (const int g : {2, 4, 8}) {
+    const auto patches = ReducedSole::grid_patches(x, g, g);
+    const ReducedSole reduced(factored, patches);
+    const Eigen::SparseMatrix<double, Eigen::ColMajor, int> a = ReducedSole::aggregation(patches);
+    const Eigen::MatrixXd r_r = rigid_motions(reduced.patch_positions(), origin);
+    const Eigen::LDLT<Eigen::MatrixXd> c_r(reduced.compliance());
+    const Eigen::Matrix<double, 6, 6> k_r = r_r.transpose() * c_r.solve(r_r);
+    const double estimate = reduction_error_estimate(k_full, reduced, origin);
+    for (int i = 0; i < 6; ++i) {
+      // Full: the contact face moved rigidly by a = e_i. Reduced: the patch forces that move
+      // the patch means by the same motion, shared by the nodes.
+      dealii::Vector<double> u_full, u_reduced, difference, ku(k.m());
+      full.recover(r.col(i), u_full);
+      factored.displacement_of_forces(a * c_r.solve(r_r.col(i)), u_reduced);
+      // Its patch means are the prescribed motion: A^T u_c = R_r a.
+      Eigen::VectorXd u_c(3 * x.rows());
+      for (Eigen::Index n = 0; n < x.rows(); ++n)
+        for (int d = 0; d < 3; ++d)
+          u_c(3 * n + d) = u_reduced(full.contact_dofs()[n][d]);
+      EXPECT_LT((a.transpose() * u_c - r_r.col(i)).cwiseAbs().maxCoeff(),
+                1e-10 * r_r.col(i).cwiseAbs().maxCoeff())
+          << g << " " << i;
+      difference = u_full;
+      difference -= u_reduced;
+      const double error2 = k.matrix_norm_square(difference);
+      const double energy2 = k.matrix_norm_square(u_full);
+      const double gap = k_full(i, i) - k_r(i, i);
+      worst_identity = std::max(worst_identity, std::abs(error2 - gap) / k_full(i, i));
+      const double relative = std::sqrt(error2 / energy2);
+      worst_ratio = std::max(worst_ratio, relative / std::sqrt(estimate));
+      EXPECT_NEAR(energy2, k_full(i, i), 1e-9 * k_full(i, i)) << g << " " << i;
+      EXPECT_NEAR(error2, gap, 1e-8 * k_full(i, i)) << g << " " << i;
+      EXPECT_LE(relative, std::sqrt(estimate) * (1 + 1e-9)) << g << " " << i;
+      if (i == 2 || i == 3)
+        std::printf("grid %dx%d, motion %d: relative energy error of the field %.4f, "
+                    "sqrt(estimate) %.4f\n",
+                    g, g, i, relative, std::sqrt(estimate));
+    }
+  }
+  std::printf("max |(||u - u_r||_K^2 - (K_R - K_r)_ii)| / K_R,ii = %.1e; max relative energy "
+              "error / sqrt(estimate) = %.3f\n",
+              worst_identity, worst_ratio);
+}
+
+// Chebyshev-graded grids (cells at the Chebyshev-Lobatto points, small at the edges): nested
+// under doubling, so their estimate falls monotonically too; printed against the uniform grids'.
+TEST(ReducedSole, ChebyshevGridsAreNestedAndConverge) {
+  const CondensedSole sole = make_sole();
+  const Eigen::MatrixX3d& x = sole.contact_positions();
+  const Eigen::Vector3d origin = x.colwise().mean().transpose();
+  const int n = sole.n_contacts();
+  double previous = 2;
+  std::vector<int> coarse;
+  for (int g = 1; g <= 16; g *= 2) {
+    const auto patches = ReducedSole::grid_patches(x, g, g, GridSpacing::chebyshev);
+    const ReducedSole reduced(x, sole.compliance(), patches);
+    const double estimate =
+        reduction_error_estimate(sole.rigid_motion_stiffness(), reduced, origin);
+    const ReducedSole uniform(x, sole.compliance(), ReducedSole::grid_patches(x, g, g));
+    std::printf("grid %2dx%-2d chebyshev: %2d patches, estimate %.4f; uniform: %2d patches, "
+                "estimate %.4f\n",
+                g, g, reduced.n_patches(), estimate, uniform.n_patches(),
+                reduction_error_estimate(sole.rigid_motion_stiffness(), uniform, origin));
+    EXPECT_LE(estimate, previous * (1 + 1e-12)) << g;
+    if (!coarse.empty()) { // every fine patch lies in one coarse patch
+      std::vector<int> parent(reduced.n_patches(), -1);
+      for (int k = 0; k < n; ++k) {
+        int& p = parent[patches[k]];
+        if (p < 0)
+          p = coarse[k];
+        EXPECT_EQ(p, coarse[k]) << "grid " << g << ", node " << k;
+      }
+    }
+    // Cells of the graded grid: the two edge columns (rows) are narrower than the middle ones.
+    if (g == 8) {
+      const double lo = x.col(0).minCoeff(), hi = x.col(0).maxCoeff();
+      const double edge = (1 - std::cos(M_PI / 8)) / 2 * (hi - lo);
+      for (int k = 0; k < n; ++k) {
+        if (x(k, 0) >= lo + 0.99 * edge)
+          continue;
+        for (int l = 0; l < n; ++l) {
+          if (patches[l] == patches[k]) {
+            EXPECT_LT(x(l, 0), lo + edge * (1 + 1e-9)) << k << " " << l;
+          }
+        }
+      }
+    }
+    previous = estimate;
+    coarse = patches;
+  }
 }
 
 TEST(ReducedSole, RejectsBadInput) {

@@ -1,0 +1,90 @@
+// Reduced soles built from the factorization of K (no dense C) against those built from the
+// dense C, for decreasing mesh size h: set-up time and memory of each route, the reduction
+// error estimate against the number of patches for uniform and Chebyshev-graded grids, and
+// the difference of the two routes' C_r. The HRP-2 sole of meshes/sole_box.geo (Q1, E = 4 MPa,
+// nu = 0.3). A timing app, not a test: prints tables, never passes or fails.
+// Usage: reduction_bench [--dense-up-to H] [h1 h2 ...] (m); the dense route is run for
+// h >= H only (default 0.004: below, C no longer fits a 2-core, 24 GB machine's time budget).
+#include "bench/coupling/sole_box_condensation.h"
+#include "bench/fem/peak_memory.h"
+#include "coupling/reduced_sole.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+using namespace plantar;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+const char* name(coupling::GridSpacing spacing) {
+  return spacing == coupling::GridSpacing::uniform ? "uniform" : "chebyshev";
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  double dense_up_to = 0.004;
+  std::vector<double> sizes;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--dense-up-to" && i + 1 < argc)
+      dense_up_to = std::atof(argv[++i]);
+    else
+      sizes.push_back(std::atof(arg.c_str()));
+  }
+  if (sizes.empty())
+    sizes = {0.02, 0.01, 0.005};
+  using Form = coupling::CondensationParameters::Form;
+  std::printf("# set-up: route, h (m), contact nodes, set-up s (assembly + factorization + "
+              "solves), kept MB, peak RSS MB so far\n");
+  std::printf("# grids: h, spacing, g, patches, estimate, C_r s (3P solves), max |C_r(K) - "
+              "C_r(C)| / max |C_r(C)| (dense route only)\n");
+  for (const double h : sizes) {
+    auto start = std::chrono::steady_clock::now();
+    const coupling::CondensedSole factored = bench::condense_sole_box(h, 64, Form::factorization);
+    const double t_factored = seconds_since(start);
+    const int n = factored.n_contacts();
+    std::printf("setup factorization %.4f %d %.3f %.2f %.1f\n", h, n, t_factored,
+                factored.memory().total() / 1e6, bench::peak_megabytes());
+    std::fflush(stdout);
+    const bool with_dense = h >= dense_up_to;
+    std::unique_ptr<coupling::CondensedSole> dense;
+    if (with_dense) {
+      start = std::chrono::steady_clock::now();
+      dense =
+          std::make_unique<coupling::CondensedSole>(bench::condense_sole_box(h, 64, Form::dense));
+      std::printf("setup dense %.4f %d %.3f %.2f %.1f\n", h, n, seconds_since(start),
+                  dense->memory().total() / 1e6, bench::peak_megabytes());
+    }
+    const Eigen::MatrixX3d& x = factored.contact_positions();
+    const Eigen::Vector3d origin = x.colwise().mean().transpose();
+    for (const auto spacing : {coupling::GridSpacing::uniform, coupling::GridSpacing::chebyshev})
+      for (int g = 2; g <= 32; g *= 2) {
+        const auto patches = coupling::ReducedSole::grid_patches(x, g, g, spacing);
+        start = std::chrono::steady_clock::now();
+        const coupling::ReducedSole reduced(factored, patches);
+        const double t_reduce = seconds_since(start);
+        if (reduced.n_patches() >= n)
+          break;
+        const double estimate =
+            coupling::reduction_error_estimate(factored.rigid_motion_stiffness(), reduced, origin);
+        double difference = -1;
+        if (dense) {
+          const coupling::ReducedSole from_c(x, dense->compliance(), patches);
+          difference = (reduced.compliance() - from_c.compliance()).cwiseAbs().maxCoeff() /
+                       from_c.compliance().cwiseAbs().maxCoeff();
+        }
+        std::printf("grid %.4f %s %d %d %.4g %.3f %.1e\n", h, name(spacing), g, reduced.n_patches(),
+                    estimate, t_reduce, difference);
+        std::fflush(stdout);
+      }
+  }
+  return 0;
+}
