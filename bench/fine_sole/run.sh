@@ -7,10 +7,14 @@
 #             sole from 2 cm to 4 mm (96 to 2016 nodes; at 3 mm the run was killed for memory)
 #             and reduced soles of 8 x 8 and 16 x 16 patches from 2 cm to 2.5 mm (to 5016
 #             nodes) (work_precision --only "mesh size" / "mesh reduced", stand_hex.prm)
-#   walk_1cm  the six-step walk on the 1 cm sole (walk_1cm.prm, 345 nodes): reduced soles of
-#             4 x 4 to 16 x 16 patches and Reduced patches = auto at tolerances 0.1 and 0.03
-#             against the full sole (work_precision --only "sole model")
-#   walk_5mm  the same on the 5 mm sole (walk_5mm.prm, 1305 nodes), reduced 8 x 8 to 24 x 24
+#   reduction reduced soles from the factorization of K (no dense C) against the dense route:
+#             set-up time and memory, the reduction error estimate of uniform and Chebyshev
+#             grids, 2 cm to 2.5 mm (reduction_bench; the dense route to 5 mm)
+#   walk_1cm  the six-step walk on the 1 cm sole (walk_1cm.prm, 345 nodes): uniform reduced
+#             soles of 8 x 8 and 16 x 16 patches, Chebyshev-graded ones of 4 x 4 to 16 x 16 and
+#             graded auto at 0.01 against the full sole (work_precision --only "sole model")
+#   walk_5mm  the same on the 5 mm sole (walk_5mm.prm, 1305 nodes): uniform 8 x 8 and
+#             16 x 16, graded 8 x 8 to 16 x 16 and graded auto at 0.01
 #   hmatrix   one contact solve on the H-matrix compliance against the dense one, 96 to 2016
 #             nodes (hierarchical_compliance_bench)
 #   table     OUT_DIR/tables.md and OUT_DIR/scaling.png (table.py)
@@ -23,8 +27,8 @@ build=$(cd "${1:-$root/build}" && pwd)
 out=${2:-$build/fine_sole}
 [ $# -gt 0 ] && shift
 [ $# -gt 0 ] && shift
-stages=${*:-scaling walk_1cm walk_5mm hmatrix table}
-cmake --build "$build" --target work_precision hierarchical_compliance_bench -j2
+stages=${*:-scaling reduction walk_1cm walk_5mm hmatrix table}
+cmake --build "$build" --target work_precision hierarchical_compliance_bench reduction_bench -j2
 export PLANTAR_MESH_CACHE=${PLANTAR_MESH_CACHE:-$build/mesh-cache}
 mkdir -p "$out"
 core=${PLANTAR_BENCH_CORE:-1}
@@ -38,12 +42,15 @@ for stage in $stages; do
     $wp "$here/stand_hex.prm" --out "$out/scaling_reduced" --duration 0.05 --no-hyperelastic \
       --only "mesh reduced" --mesh-patches 8,16 \
       --mesh-sizes 0.02,0.0125,0.008,0.006,0.005,0.004,0.003,0.0025 >"$out/scaling_reduced.txt" ;;
+  reduction)
+    taskset -c "$core" "$build/bench/coupling/reduction_bench" --dense-up-to 0.005 0.02 0.01 \
+      0.005 0.004 0.003 0.0025 >"$out/reduction.txt" ;;
   walk_1cm)
     $wp "$here/walk_1cm.prm" --out "$out/walk_1cm" --no-hyperelastic --only "sole model" \
-      --patches 4,8,12,16 --auto 0.1,0.03 >"$out/walk_1cm.txt" ;;
+      --patches 8,16 --graded-patches 4,8,12,16 --graded-auto 0.01 >"$out/walk_1cm.txt" ;;
   walk_5mm)
     $wp "$here/walk_5mm.prm" --out "$out/walk_5mm" --no-hyperelastic --only "sole model" \
-      --patches 8,16,24 --auto 0.1,0.03 >"$out/walk_5mm.txt" ;;
+      --patches 8,16 --graded-patches 8,12,16 --graded-auto 0.01 >"$out/walk_5mm.txt" ;;
   hmatrix)
     taskset -c "$core" "$build/bench/coupling/hierarchical_compliance_bench" 0.02 0.0125 0.008 0.005 \
       0.004 >"$out/hmatrix.txt" ;;
@@ -51,7 +58,7 @@ for stage in $stages; do
     /usr/bin/python3 "$here/table.py" "$out" >"$out/tables.md"
     cat "$out/tables.md" ;;
   *)
-    echo "run.sh: unknown stage '$stage' (scaling, walk_1cm, walk_5mm, hmatrix, table)" >&2
+    echo "run.sh: unknown stage '$stage' (scaling, reduction, walk_1cm, walk_5mm, hmatrix, table)" >&2
     exit 1 ;;
   esac
 done

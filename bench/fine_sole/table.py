@@ -120,6 +120,51 @@ def hmatrix(out):
     return curves
 
 
+def reduction(out):
+    path = os.path.join(out, "reduction.txt")
+    if not os.path.exists(path):
+        return
+    setup, grids = {}, []
+    for line in open(path):
+        f = line.split()
+        if f and f[0] == "setup":
+            setup[(f[1], float(f[2]))] = (int(f[3]), float(f[4]), float(f[5]))
+        elif f and f[0] == "grid":
+            grids.append((float(f[1]), f[2], int(f[3]), int(f[4]), float(f[5]), float(f[6]),
+                          float(f[7])))
+    print("## Reduced soles from the factorization of K (reduction.txt)\n")
+    print("Set-up of the condensed sole: the factorization route (assembly, Cholesky of K, the"
+          " rigid-motion stiffness through K_nn; kept: the factor of K) against the dense route"
+          " (C = [K^-1]_cc by 3n solves; kept: C and the factor of K_nn); then C_r of a reduced"
+          " sole by 3P solves.\n")
+    print("| h (m) | nodes | factorization s | factor MB | dense s | dense MB | 8x8 C_r s |"
+          " 16x16 C_r s |")
+    print("|---|---|---|---|---|---|---|---|")
+    for (route, h), (n, t, mb) in sorted(setup.items(), key=lambda kv: -kv[0][1]):
+        if route != "factorization":
+            continue
+        dense = setup.get(("dense", h))
+        c8 = [g[5] for g in grids if g[0] == h and g[1] == "uniform" and g[2] == 8]
+        c16 = [g[5] for g in grids if g[0] == h and g[1] == "uniform" and g[2] == 16]
+        print(f"| {h} | {n} | {t:.3g} | {mb:.3g} | {dense[1]:.3g} | {dense[2]:.3g} |" if dense
+              else f"| {h} | {n} | {t:.3g} | {mb:.3g} | - | - |", end="")
+        print(f" {c8[0]:.3g} |" if c8 else " - |", f"{c16[0]:.3g} |" if c16 else "- |")
+    print("\nThe reduction error estimate against the patches, uniform and Chebyshev-graded grids"
+          " (max |C_r from K - C_r from C| / max |C_r| where the dense route ran):\n")
+    print("| h (m) | g | uniform patches | uniform estimate | graded patches | graded estimate |"
+          " route difference |")
+    print("|---|---|---|---|---|---|---|")
+    for h in sorted({g[0] for g in grids}, reverse=True):
+        for g in sorted({g[2] for g in grids if g[0] == h}):
+            u = [x for x in grids if x[0] == h and x[2] == g and x[1] == "uniform"]
+            c = [x for x in grids if x[0] == h and x[2] == g and x[1] == "chebyshev"]
+            diff = max([x[6] for x in u + c] + [-1])
+            print(f"| {h} | {g} | {u[0][3] if u else '-'} | {f'{u[0][4]:.3g}' if u else '-'} |"
+                  f" {c[0][3] if c else '-'} | {f'{c[0][4]:.3g}' if c else '-'} |"
+                  f" {f'{diff:.1e}' if diff >= 0 else '-'} |")
+    print()
+
+
 def walk(out, name, title):
     rows = [r for r in read(os.path.join(out, name, "work_precision.csv"))
             if r["knob"] == "sole model"]
@@ -183,6 +228,7 @@ def main():
     out = sys.argv[1]
     curves = scaling(out)
     hcurves = hmatrix(out)
+    reduction(out)
     walk(out, "walk_1cm", "The six-step walk on the 1 cm sole (345 contact nodes per foot)")
     walk(out, "walk_5mm", "The six-step walk on the 5 mm sole (1305 contact nodes per foot)")
     plot(out, curves, hcurves)

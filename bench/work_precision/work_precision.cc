@@ -603,6 +603,7 @@ int main(int argc, char** argv) {
                      [h, n](Scene& s) {
                        s.sole.mesh_size = h;
                        s.sole_reduction.patches_x = s.sole_reduction.patches_y = n;
+                       s.sole_reduction.spacing = coupling::GridSpacing::uniform;
                      }});
       knobs.push_back(v);
     }
@@ -648,12 +649,14 @@ int main(int argc, char** argv) {
                      [g = int(p)](Scene& s) {
                        s.sole_reduction.patches_x = g;
                        s.sole_reduction.patches_y = g;
+                       s.sole_reduction.spacing = coupling::GridSpacing::uniform;
                      }});
       for (const double tolerance : auto_tolerances)
         v.push_back({"sole model", "auto " + fmt(tolerance, "%.3g"), [tolerance](Scene& s) {
                        s.sole_reduction = {};
                        s.sole_reduction.automatic = true;
                        s.sole_reduction.tolerance = tolerance;
+                       s.sole_reduction.spacing = coupling::GridSpacing::uniform;
                      }});
       for (const double p : graded_patches)
         v.push_back({"sole model",

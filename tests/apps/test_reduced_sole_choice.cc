@@ -37,9 +37,11 @@ TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
   const auto& sole_foot = dynamic_cast<const CondensedSoleFoot&>(reference.foot_model());
   const coupling::CondensedSole& sole = *sole_foot.sole();
   for (const char* tolerance : {"0.5", "0.2", "0.05", "0.01"}) {
-    const coupling::ReductionChoice expected = coupling::choose_reduction(
-        sole.contact_positions(), sole.compliance(), std::stod(tolerance));
-    HumanoidSimulation simulation(auto_scene(tolerance));
+    const Scene scene = auto_scene(tolerance);
+    const coupling::ReductionChoice expected =
+        coupling::choose_reduction(sole.contact_positions(), sole.compliance(),
+                                   std::stod(tolerance), scene.sole_reduction.spacing);
+    HumanoidSimulation simulation(scene);
     simulation.run();
     const HumanoidSummary& s = simulation.summary();
     std::printf("tolerance %s: grid %d x %d, %d contacts per foot (full %d), estimate %.4f, "
@@ -52,8 +54,8 @@ TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
     // The scene's reduced sole is built from the factorization of K, the expected one from C.
     EXPECT_NEAR(s.sole_reduction_estimate, expected.estimate, 1e-12 * expected.estimate);
     if (expected.reached) {
-      const auto patches = coupling::ReducedSole::grid_patches(sole.contact_positions(),
-                                                               expected.grid, expected.grid);
+      const auto patches = coupling::ReducedSole::grid_patches(
+          sole.contact_positions(), expected.grid, expected.grid, scene.sole_reduction.spacing);
       EXPECT_EQ(s.n_sole_nodes, *std::max_element(patches.begin(), patches.end()) + 1);
       EXPECT_LE(s.sole_reduction_estimate, std::stod(tolerance));
       EXPECT_GT(s.sole_reduction_estimate, 0.0);
