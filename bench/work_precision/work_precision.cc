@@ -643,36 +643,29 @@ int main(int argc, char** argv) {
       std::vector<Variant> v;
       if (patches.empty())
         patches = {2, 3, 4, 6, 8};
-      for (const double p : patches)
-        v.push_back({"sole model",
-                     "reduced " + std::to_string(int(p)) + "x" + std::to_string(int(p)),
-                     [g = int(p)](Scene& s) {
-                       s.sole_reduction.patches_x = g;
-                       s.sole_reduction.patches_y = g;
-                       s.sole_reduction.spacing = coupling::GridSpacing::uniform;
-                     }});
-      for (const double tolerance : auto_tolerances)
-        v.push_back({"sole model", "auto " + fmt(tolerance, "%.3g"), [tolerance](Scene& s) {
-                       s.sole_reduction = {};
-                       s.sole_reduction.automatic = true;
-                       s.sole_reduction.tolerance = tolerance;
-                       s.sole_reduction.spacing = coupling::GridSpacing::uniform;
-                     }});
-      for (const double p : graded_patches)
-        v.push_back({"sole model",
-                     "graded " + std::to_string(int(p)) + "x" + std::to_string(int(p)),
-                     [g = int(p)](Scene& s) {
-                       s.sole_reduction.patches_x = g;
-                       s.sole_reduction.patches_y = g;
-                       s.sole_reduction.spacing = coupling::GridSpacing::chebyshev;
-                     }});
-      for (const double tolerance : graded_auto)
-        v.push_back({"sole model", "graded auto " + fmt(tolerance, "%.3g"), [tolerance](Scene& s) {
-                       s.sole_reduction = {};
-                       s.sole_reduction.automatic = true;
-                       s.sole_reduction.tolerance = tolerance;
-                       s.sole_reduction.spacing = coupling::GridSpacing::chebyshev;
-                     }});
+      // Reduced soles: given grids and auto tolerances, on uniform and graded grids.
+      const auto add_reduced = [&v](const std::string& prefix, coupling::GridSpacing spacing,
+                                    const std::vector<double>& grids,
+                                    const std::vector<double>& tolerances) {
+        for (const double p : grids)
+          v.push_back({"sole model", prefix + std::to_string(int(p)) + "x" + std::to_string(int(p)),
+                       [g = int(p), spacing](Scene& s) {
+                         s.sole_reduction = {};
+                         s.sole_reduction.patches_x = s.sole_reduction.patches_y = g;
+                         s.sole_reduction.spacing = spacing;
+                       }});
+        for (const double tolerance : tolerances)
+          v.push_back({"sole model", prefix + "auto " + fmt(tolerance, "%.3g"),
+                       [tolerance, spacing](Scene& s) {
+                         s.sole_reduction = {};
+                         s.sole_reduction.automatic = true;
+                         s.sole_reduction.tolerance = tolerance;
+                         s.sole_reduction.spacing = spacing;
+                       }});
+      };
+      add_reduced("reduced ", coupling::GridSpacing::uniform, patches, {});
+      add_reduced("", coupling::GridSpacing::uniform, {}, auto_tolerances);
+      add_reduced("graded ", coupling::GridSpacing::chebyshev, graded_patches, graded_auto);
       v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
       knobs.push_back(v);
     }
