@@ -3,6 +3,7 @@
 #include <deal.II/fe/fe_values.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -39,6 +40,8 @@ NonlinearCondensedSole::NonlinearCondensedSole(const dealii::Triangulation<3>& t
   compliance_.resize(3 * n, 3 * n);
   offset_.setZero(3 * n);
   force_buffer_.reinit(3 * n);
+  increment_.reinit(3 * n);
+  slope_.reinit(3 * n);
   checked_forces_.setZero(3 * n);
   checked_displacements_.setZero(3 * n);
   viscous_ = materials_.has_viscosity();
@@ -48,6 +51,7 @@ NonlinearCondensedSole::NonlinearCondensedSole(const dealii::Triangulation<3>& t
   for (const dealii::types::material_id id : ids)
     if (const fem::ViscoHyperelasticLaw* law = materials_.viscous(id))
       regions_.push_back(law->branches());
+  end_slope_ = relaxation(std::numeric_limits<double>::infinity()) == 0.0; // no branch relaxes
   copy_condensation();
 }
 
@@ -134,9 +138,21 @@ NonlinearCondensedSole::update(const Eigen::Ref<const Eigen::VectorXd>& forces) 
   if (viscous_) // an undeformed sole had nothing to relax
     sole_->set_time_step(deformed ? elapsed_ : dt);
   const fem::SoleUpdateReport r = sole_->update(force_buffer_, dt);
-  // Work of the contact forces over the checked interval (trapezoid).
+  // Work of the contact forces over the checked interval, f linear in s in [0, 1]: the trapezoid,
+  // plus for an elastic sole the end-slope term df . (C_T df - du) / 6 (C_T df = u'(1)), exact for
+  // u quadratic in s (the trapezoid alone errs by O(df^3) per interval on a stiffening sole:
+  // large over a landing's few steps). With relaxing branches C_T is the algorithmic tangent of
+  // the whole step, not the path's slope: the trapezoid alone (docs/viscoelastic.md).
+  if (end_slope_) {
+    for (int i = 0; i < forces.size(); ++i)
+      increment_(i) = forces[i] - checked_forces_[i];
+    sole_->tangent_response(increment_, slope_);
+  }
   for (int i = 0; i < forces.size(); ++i) {
-    work_ += 0.5 * (checked_forces_[i] + forces[i]) * (u(i) - checked_displacements_[i]);
+    const double du = u(i) - checked_displacements_[i];
+    work_ += 0.5 * (checked_forces_[i] + forces[i]) * du;
+    if (end_slope_)
+      work_ += increment_(i) * (slope_(i) - du) / 6;
     checked_displacements_[i] = u(i);
   }
   checked_forces_ = forces;

@@ -42,7 +42,7 @@
 // move). An undeformed sole is not checked on time: its creep is below the
 // tolerance at the run's scale, and a Newton solve of a state at round-off
 // cannot reach a relative tolerance.
-// Energy: work() (the contact forces' work, trapezoid over the checks) minus
+// Energy: work() (the contact forces' work over the checks, work() below) minus
 // stored_base_energy() (int W(F) dV of the base, long-term, law) is what the
 // branches absorbed: dissipated or still held by the overstresses (they have
 // no closed-form free energy for a general W_iso, docs/viscoelastic.md).
@@ -104,7 +104,9 @@ public:
   /// Checks fired by the time test (viscous regions), included in n_checks().
   int n_time_checks() const { return n_time_checks_; }
   /// Work of the contact forces on the sole since t = 0 (J): sum over the checks of
-  /// (f_prev + f) / 2 . (u_c - u_c,prev).
+  /// (f_prev + f) / 2 . du (du = u_c - u_c,prev, df = f - f_prev), the trapezoid, plus for a
+  /// sole without relaxing branches (all beta = 0) df . (C_T(u_c) df - du) / 6: exact for u_c
+  /// quadratic along a linear force path (fem::NonlinearSole::tangent_response).
   double work() const { return work_; }
   /// int W(F) dV (J) of the base laws at the last Newton solve: the elastic (long-term) part
   /// of the stored energy. One cell loop (allocates; for the summary).
@@ -137,9 +139,11 @@ private:
   Eigen::MatrixXd compliance_;
   Eigen::VectorXd offset_;
   dealii::Vector<double> force_buffer_;
+  dealii::Vector<double> increment_, slope_; // f - f_checked and u'(1) of the work's quadrature
   Eigen::VectorXd checked_forces_;
   Eigen::VectorXd checked_displacements_;
   bool viscous_ = false;
+  bool end_slope_ = false; // work() with the end-slope term (no relaxing branch)
   std::vector<std::vector<fem::ViscousBranch>> regions_; // branches of each viscous region
   double elapsed_ = 0;                                   // s since the last check (viscous regions)
   int calls_since_ = 0;                                  // update() calls since the last check

@@ -57,6 +57,8 @@ NonlinearSole::NonlinearSole(const dealii::Triangulation<3>& triangulation,
   reference_displacement_.reinit(n);
   reference_force_.reinit(n);
   contact_drift_.reinit(n);
+  load_.reinit(problem_.solution().size());
+  response_.reinit(problem_.solution().size());
   compute_compliance();
 }
 
@@ -192,6 +194,23 @@ SoleUpdateReport NonlinearSole::update(const dealii::Vector<double>& forces, dou
     reference_displacement_ += contact_drift_;
   }
   return report;
+}
+
+void NonlinearSole::tangent_response(const dealii::Vector<double>& forces,
+                                     dealii::Vector<double>& displacements) {
+  const unsigned int n = 3 * n_contacts();
+  if (forces.size() != n || displacements.size() != n)
+    throw std::invalid_argument("NonlinearSole::tangent_response: forces and displacements have "
+                                "sizes " +
+                                std::to_string(forces.size()) + ", " +
+                                std::to_string(displacements.size()) +
+                                ", expected 3 n_c = " + std::to_string(n));
+  load_ = 0;
+  for (unsigned int i = 0; i < n; ++i)
+    load_(contact_dofs_[i / 3][i % 3]) = forces(i);
+  problem_.solve_tangent(load_, response_);
+  for (unsigned int i = 0; i < n; ++i)
+    displacements(i) = response_(contact_dofs_[i / 3][i % 3]);
 }
 
 void NonlinearSole::extrapolate_drift() {

@@ -105,6 +105,12 @@ public:
   /// Viscous regions: u_ref += the last update's drift (contact part), the creep of one more
   /// step of its length at fixed forces. No heap allocation.
   void extrapolate_drift();
+  /// [K_T^-1 P f]_c: the contact displacements (3 n_c, m) that contact forces @p forces (3 n_c,
+  /// N) add to first order, K_T the last factorized tangent (the last Newton iteration's, near
+  /// the converged state, or the last condensation's). One back-substitution, no heap
+  /// allocation.
+  void tangent_response(const dealii::Vector<double>& forces,
+                        dealii::Vector<double>& displacements);
   /// The contact part of the last update's drift (3 n_c, m; zero without viscous regions).
   const dealii::Vector<double>& contact_drift() const { return contact_drift_; }
   /// u_ref and f_ref of predict() (3 n_c; m, N).
@@ -138,8 +144,9 @@ private:
   double raw_asymmetry_ = 0;
   dealii::Vector<double> contact_displacement_, contact_force_;
   dealii::Vector<double> reference_displacement_, reference_force_;
-  dealii::Vector<double> drift_;         // viscous regions: history_drift() of the last update
-  dealii::Vector<double> contact_drift_; // its contact part (3 n_c)
+  dealii::Vector<double> drift_;           // viscous regions: history_drift() of the last update
+  dealii::Vector<double> contact_drift_;   // its contact part (3 n_c)
+  dealii::Vector<double> load_, response_; // tangent_response() workspaces (dof order)
   unsigned int n_recondensations_ = 0;
   double max_tolerated_error_ = 0, last_error_ = 0;
 };

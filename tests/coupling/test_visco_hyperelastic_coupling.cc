@@ -1,8 +1,8 @@
 // NonlinearCondensedSole with visco-hyperelastic regions (coupling/nonlinear_condensed_sole.h),
 // on a Neo-Hookean sole box (Q1 6 x 3 x 2, top attached):
 //  - the work accounting: over a non-proportional load cycle of an elastic sole, work() equals
-//    the stored energy int W dV at every check (the trapezoid is exact for a linear map, the
-//    strain is small) and closes to ~0 when the load returns to 0;
+//    the stored energy int W dV at every check (the quadrature, trapezoid plus end-slope term, is
+//    exact for a quadratic map, the strain is small) and closes to ~0 when the load returns to 0;
 //  - creep at constant force: the affine model C_T f + d the stepper sees follows a
 //    fem::NonlinearSole integrated step by step (set_time_step(dt), an update every step)
 //    to the order of the check tolerance, with checks fired on time only, fewer than the steps.
@@ -58,7 +58,9 @@ TEST(ViscoHyperelasticCoupling, WorkEqualsStoredEnergyOverAnElasticCycle) {
     const double stored = sole.stored_base_energy();
     peak = std::max(peak, stored);
     std::printf("load %.1f: work %.8e J, stored %.8e J\n", s, sole.work(), stored);
-    EXPECT_NEAR(sole.work(), stored, 1e-4 * peak);
+    // The trapezoid alone: 4e-5 of the peak (its O(df^3) error on these load jumps); with the
+    // end-slope term 1.5e-7.
+    EXPECT_NEAR(sole.work(), stored, 1e-6 * peak);
   }
 }
 
