@@ -51,10 +51,13 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
   const auto& positions = sole_->contact_positions();
   int nx = reduction.patches_x, ny = reduction.patches_y;
-  double estimate = -1; // computed below for a given grid
+  double estimate = -1;    // computed below for a given grid
+  Eigen::VectorXd weights; // empty: equal shares
+  if (reduce && reduction.area_weights)
+    weights = coupling::pressure_weights(node_areas(0));
   if (reduction.automatic) {
     const coupling::ReductionChoice choice =
-        coupling::choose_reduction(*sole_, reduction.tolerance, reduction.spacing);
+        coupling::choose_reduction(*sole_, reduction.tolerance, reduction.spacing, weights);
     nx = ny = choice.grid;
     estimate = choice.estimate;
     reduction_reached_ = choice.reached;
@@ -74,7 +77,7 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   // Reduced sole: bottom nodes grouped into patches, one contact per patch with the
   // patch-averaged compliance (coupling/reduced_sole.h).
   reduced_ = std::make_unique<coupling::ReducedSole>(
-      *sole_, coupling::ReducedSole::grid_patches(positions, nx, ny, reduction.spacing));
+      *sole_, coupling::ReducedSole::grid_patches(positions, nx, ny, reduction.spacing), weights);
   reduced_factor_ = std::make_unique<Eigen::LDLT<Eigen::MatrixXd>>(reduced_->compliance());
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
   reduction_x_ = nx;
@@ -118,7 +121,7 @@ void CondensedSoleFoot::write_fields(int foot, const multibody::SE3& placement,
   PadNodeState nodes{Eigen::Matrix3Xd(3, n), Eigen::Matrix3Xd(3, n)};
   for (int k = 0; k < n; ++k) {
     const int j = reduced_->patch_of_node()[k];
-    const double share = 1.0 / reduced_->patch_sizes()[j];
+    const double share = reduced_->node_shares()[k];
     node_force.segment<3>(3 * k) = share * f_elastic.segment<3>(3 * j);
     nodes.force.col(k) = share * f_patch.col(j);
   }

@@ -275,6 +275,11 @@ void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
                     "towards the sole's edges, where a bonded layer's contact pressure peaks "
                     "(chebyshev: cell edges at the Chebyshev-Lobatto points; "
                     "coupling/reduced_sole.h).");
+  prm.declare_entry("Reduction weights", d.area_weights ? "area" : "equal",
+                    dealii::Patterns::Selection("area|equal"),
+                    "fem sole, Reduced patches: how a patch's force is shared by its bottom nodes: "
+                    "in proportion to their consistent areas (area: a uniform pressure over the "
+                    "patch) or equally (equal); coupling/reduced_sole.h.");
   prm.declare_entry("Reduction tolerance", number_text(d.tolerance), Double(0, 1),
                     "fem sole, Reduced patches = auto: the bound on the reduction error estimate "
                     "||D^-1/2 (K - K_r) D^-1/2||_2 (the relative error of the sole face's "
@@ -289,6 +294,7 @@ void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
   patches_x = patches_y = 0;
   tolerance = prm.get_double("Reduction tolerance");
   spacing = parse_choice(spacing_table(), prm.get("Reduction spacing"), "Sole/Reduction spacing");
+  area_weights = prm.get("Reduction weights") == "area";
   automatic = items.size() == 1 && (items[0] == "auto" || items[0] == "Auto");
   require(tolerance > 0 && tolerance < 1, "Sole/Reduction tolerance", tolerance, "(0, 1)");
   if (automatic)

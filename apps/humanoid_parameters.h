@@ -66,6 +66,9 @@ struct SoleReductionParameters {
   /// default: on the 5 mm to 2.5 mm soles its estimate is 2 to 8 times smaller than the uniform
   /// grid's from 8 x 8 on; docs/performance.md).
   coupling::GridSpacing spacing = coupling::GridSpacing::chebyshev;
+  /// Sole/Reduction weights: a patch force shared by the nodes' areas (a uniform patch
+  /// pressure, coupling::pressure_weights) or equally.
+  bool area_weights = true;
   bool reduced() const { return patches_x > 0 || automatic; }
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

@@ -33,9 +33,38 @@ std::vector<int> patch_sizes_of(const std::vector<int>& patch_of_node) {
   return sizes;
 }
 
+/// Shares s_k = w_k / W_j(k) of @p patch_of_node's nodes (equal, 1 / n_j, for empty
+/// @p weights); throws on a weight that is not positive and finite or of the wrong size.
+Eigen::VectorXd shares_of(const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights) {
+  const std::vector<int> sizes = patch_sizes_of(patch_of_node);
+  const Eigen::Index n = static_cast<Eigen::Index>(patch_of_node.size());
+  if (weights.size() != 0 && weights.size() != n)
+    throw std::invalid_argument("ReducedSole: " + std::to_string(weights.size()) +
+                                " node weights for " + std::to_string(n) + " nodes");
+  Eigen::VectorXd w = weights.size() == 0 ? Eigen::VectorXd::Ones(n) : weights;
+  Eigen::VectorXd total = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(sizes.size()));
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (!(w[k] > 0) || !std::isfinite(w[k]))
+      throw std::invalid_argument("ReducedSole: node weight " + std::to_string(k) + " = " +
+                                  std::to_string(w[k]) + ", allowed > 0 and finite");
+    total[patch_of_node[k]] += w[k];
+  }
+  for (Eigen::Index k = 0; k < n; ++k)
+    w[k] /= total[patch_of_node[k]];
+  return w;
+}
+
 } // namespace
 
-void ReducedSole::set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows) {
+Eigen::VectorXd pressure_weights(const Eigen::VectorXd& areas) {
+  if (areas.size() == 0 || !areas.allFinite() || !(areas.sum() > 0))
+    throw std::invalid_argument("pressure_weights: the node areas must be finite with a positive "
+                                "sum");
+  return areas.cwiseMax(1e-3 * areas.mean());
+}
+
+void ReducedSole::set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows,
+                              const Eigen::VectorXd& weights) {
   const int n = static_cast<int>(positions.rows());
   if (n == 0 || n_compliance_rows != 3 * n || static_cast<int>(patch_of_node_.size()) != n) {
     std::ostringstream msg;
@@ -45,52 +74,55 @@ void ReducedSole::set_patches(const Eigen::MatrixX3d& positions, int n_complianc
     throw std::invalid_argument(msg.str());
   }
   patch_sizes_ = patch_sizes_of(patch_of_node_);
+  shares_ = shares_of(patch_of_node_, weights);
   const int p = static_cast<int>(patch_sizes_.size());
   patch_positions_.setZero(p, 3);
   for (int k = 0; k < n; ++k)
-    patch_positions_.row(patch_of_node_[k]) += positions.row(k) / patch_sizes_[patch_of_node_[k]];
+    patch_positions_.row(patch_of_node_[k]) += shares_[k] * positions.row(k);
 }
 
 Eigen::SparseMatrix<double, Eigen::ColMajor, int>
-ReducedSole::aggregation(const std::vector<int>& patch_of_node) {
-  const std::vector<int> sizes = patch_sizes_of(patch_of_node);
-  const int n = static_cast<int>(patch_of_node.size()), p = static_cast<int>(sizes.size());
+ReducedSole::aggregation(const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights) {
+  const Eigen::VectorXd shares = shares_of(patch_of_node, weights);
+  const int n = static_cast<int>(patch_of_node.size());
+  const int p = *std::max_element(patch_of_node.begin(), patch_of_node.end()) + 1;
   std::vector<Eigen::Triplet<double, int>> entries;
   entries.reserve(3 * n);
   for (int k = 0; k < n; ++k)
     for (int d = 0; d < 3; ++d)
-      entries.emplace_back(3 * k + d, 3 * patch_of_node[k] + d, 1.0 / sizes[patch_of_node[k]]);
+      entries.emplace_back(3 * k + d, 3 * patch_of_node[k] + d, shares[k]);
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> a(3 * n, 3 * p);
   a.setFromTriplets(entries.begin(), entries.end());
   return a;
 }
 
-ReducedSole::ReducedSole(const CondensedSole& sole, const std::vector<int>& patch_of_node)
+ReducedSole::ReducedSole(const CondensedSole& sole, const std::vector<int>& patch_of_node,
+                         const Eigen::VectorXd& weights)
     : patch_of_node_(patch_of_node) {
-  set_patches(sole.contact_positions(), 3 * sole.n_contacts());
-  compliance_ = sole.projected_compliance(aggregation(patch_of_node_));
+  set_patches(sole.contact_positions(), 3 * sole.n_contacts(), weights);
+  compliance_ = sole.projected_compliance(aggregation(patch_of_node_, weights));
 }
 
 ReducedSole::ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
-                         const std::vector<int>& patch_of_node)
+                         const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights)
     : patch_of_node_(patch_of_node) {
   if (compliance.rows() != compliance.cols())
     throw std::invalid_argument("ReducedSole: compliance " + std::to_string(compliance.rows()) +
                                 "x" + std::to_string(compliance.cols()) + " is not square");
-  set_patches(positions, static_cast<int>(compliance.rows()));
+  set_patches(positions, static_cast<int>(compliance.rows()), weights);
   const int n = n_nodes(), p = n_patches();
 
-  // C A (3n x 3P): column block j sums the node columns of patch j, divided by n_j.
+  // C A (3n x 3P): column block j sums the node columns of patch j times their shares s_k.
   Eigen::MatrixXd ca = Eigen::MatrixXd::Zero(3 * n, 3 * p);
   for (int k = 0; k < n; ++k) {
     const int j = patch_of_node[k];
-    ca.middleCols<3>(3 * j) += compliance.middleCols<3>(3 * k) / patch_sizes_[j];
+    ca.middleCols<3>(3 * j) += shares_[k] * compliance.middleCols<3>(3 * k);
   }
   // A^T (C A): the same over rows.
   compliance_.setZero(3 * p, 3 * p);
   for (int k = 0; k < n; ++k) {
     const int j = patch_of_node[k];
-    compliance_.middleRows<3>(3 * j) += ca.middleRows<3>(3 * k) / patch_sizes_[j];
+    compliance_.middleRows<3>(3 * j) += shares_[k] * ca.middleRows<3>(3 * k);
   }
   compliance_ = 0.5 * (compliance_ + compliance_.transpose()).eval();
 }
@@ -194,17 +226,19 @@ ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
 
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  const Eigen::MatrixXd& compliance, double tolerance,
-                                 GridSpacing spacing) {
+                                 GridSpacing spacing, const Eigen::VectorXd& weights) {
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
   const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(positions, compliance, origin);
   return choose_grid(positions, k_full, tolerance, spacing, [&](const std::vector<int>& patches) {
-    return ReducedSole(positions, compliance, patches);
+    return ReducedSole(positions, compliance, patches, weights);
   });
 }
 
-ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance, GridSpacing spacing) {
-  return choose_grid(sole.contact_positions(), sole.rigid_motion_stiffness(), tolerance, spacing,
-                     [&](const std::vector<int>& patches) { return ReducedSole(sole, patches); });
+ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance, GridSpacing spacing,
+                                 const Eigen::VectorXd& weights) {
+  return choose_grid(
+      sole.contact_positions(), sole.rigid_motion_stiffness(), tolerance, spacing,
+      [&](const std::vector<int>& patches) { return ReducedSole(sole, patches, weights); });
 }
 
 } // namespace plantar::coupling

@@ -2,12 +2,19 @@
 // A reduced sole: the condensed compliance of a sole (condensed_sole.h) aggregated onto
 // coarser contact patches, one contact point per patch.
 //
-// Node k (of n, positions x_k) belongs to patch j(k) (of P). A patch force F_j (N) is shared
-// equally by its n_j nodes, f_k = F_j / n_j, and the patch displacement is the mean of its
-// nodes' displacements, U_j = sum_{k in j} u_k / n_j. With the aggregation matrix
-// A (3n x 3P), A_{kj} = I_3 / n_j for k in j:
+// Node k (of n, positions x_k, weight w_k > 0) belongs to patch j(k) (of P). A patch force
+// F_j (N) is shared by its nodes in proportion to their weights, f_k = s_k F_j with the share
+// s_k = w_k / W_j, W_j = sum_{k in j} w_k, and the patch displacement is the weighted mean of
+// its nodes' displacements, U_j = sum_{k in j} s_k u_k. With the aggregation matrix
+// A (3n x 3P), A_{kj} = s_k I_3 for k in j:
 //
-//   f = A F,   U = A^T u,   C_r = A^T C A   (3P x 3P, m/N),   X_j = sum_{k in j} x_k / n_j
+//   f = A F,   U = A^T u,   C_r = A^T C A   (3P x 3P, m/N),   X_j = sum_{k in j} s_k x_k
+//
+// Equal weights share a patch force equally among its nodes (s_k = 1 / n_j). The nodes'
+// consistent areas a_k = int N_k ds as weights (pressure_weights) make the patch's pressure
+// uniform, f_k = (F_j / A_j) a_k: the consistent nodal forces of a patch-wise constant
+// traction, the natural choice on any mesh and the only sensible one for P2 faces, whose
+// vertex nodes carry no area.
 //
 // C_r is symmetric positive definite when C is. Restricting the forces to patch-wise constant
 // ones is a Galerkin (complementary energy) reduction: for any rigid motion a of the contact
@@ -42,17 +49,19 @@ public:
   /// full condensed sole; @p patch_of_node (n) the patch of each node, values in [0, P) with
   /// every patch non-empty. Throws std::invalid_argument naming the argument on bad sizes or
   /// an empty patch.
+  /// @p weights (n, > 0; empty: equal) the nodes' weights w_k.
   ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
-              const std::vector<int>& patch_of_node);
+              const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights = {});
   /// The same from @p sole's projected_compliance (either form; 3P solves with
   /// Form::factorization). Same throws.
-  ReducedSole(const CondensedSole& sole, const std::vector<int>& patch_of_node);
+  ReducedSole(const CondensedSole& sole, const std::vector<int>& patch_of_node,
+              const Eigen::VectorXd& weights = {});
 
-  /// A (3n x 3P, sparse, dimensionless): A_kj = I_3 / n_j for node k in patch j, P the largest
-  /// value of @p patch_of_node plus one. Throws std::invalid_argument on an empty patch or a
-  /// negative value.
+  /// A (3n x 3P, sparse, dimensionless): A_kj = s_k I_3 for node k in patch j (shares of
+  /// @p weights, equal when empty), P the largest value of @p patch_of_node plus one. Throws
+  /// std::invalid_argument on an empty patch, a negative patch or a weight that is not > 0.
   static Eigen::SparseMatrix<double, Eigen::ColMajor, int>
-  aggregation(const std::vector<int>& patch_of_node);
+  aggregation(const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights = {});
 
   /// Patches from an @p nx x @p ny grid over the nodes' x-y bounding box (nx, ny >= 1), its
   /// cells spaced by @p spacing.
@@ -68,12 +77,16 @@ public:
   const std::vector<int>& patch_of_node() const { return patch_of_node_; }
   /// Nodes in each patch.
   const std::vector<int>& patch_sizes() const { return patch_sizes_; }
+  /// Share s_k of each node in its patch's force (n; they sum to 1 over a patch).
+  const Eigen::VectorXd& node_shares() const { return shares_; }
 
 private:
-  /// Patch sizes and centres; checks the sizes.
-  void set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows);
+  /// Patch sizes, shares and centres; checks the sizes and weights.
+  void set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows,
+                   const Eigen::VectorXd& weights);
 
   std::vector<int> patch_of_node_, patch_sizes_;
+  Eigen::VectorXd shares_;
   Eigen::MatrixX3d patch_positions_;
   Eigen::MatrixXd compliance_;
 };
@@ -115,10 +128,17 @@ struct ReductionChoice {
 /// one of each candidate's C_r. Throws std::invalid_argument on tolerance <= 0.
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  const Eigen::MatrixXd& compliance, double tolerance,
-                                 GridSpacing spacing = GridSpacing::uniform);
+                                 GridSpacing spacing = GridSpacing::uniform,
+                                 const Eigen::VectorXd& weights = {});
 /// The same from @p sole (either form): its rigid_motion_stiffness() and each candidate's
 /// projected_compliance (3P solves with Form::factorization, no dense C).
 ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance,
-                                 GridSpacing spacing = GridSpacing::uniform);
+                                 GridSpacing spacing = GridSpacing::uniform,
+                                 const Eigen::VectorXd& weights = {});
+
+/// Node weights for a uniform patch pressure from the nodes' consistent areas @p areas (n, m^2):
+/// w_k = max(a_k, 1e-3 mean(a)) (a P2 face's vertex nodes carry no area; the floor keeps every
+/// weight positive). Throws std::invalid_argument unless the areas are finite with a positive sum.
+Eigen::VectorXd pressure_weights(const Eigen::VectorXd& areas);
 
 } // namespace plantar::coupling

@@ -1,7 +1,8 @@
 // Reduced soles built from the factorization of K (no dense C) against those built from the
 // dense C, for decreasing mesh size h: set-up time and memory of each route, the reduction
 // error estimate against the number of patches for uniform and Chebyshev-graded grids, and
-// the difference of the two routes' C_r. The HRP-2 sole of meshes/sole_box.geo (Q1, E = 4 MPa,
+// the difference of the two routes' C_r; the graded grids also with a patch's force shared by
+// the nodes' areas (coupling::pressure_weights: a uniform patch pressure), "chebyshev-area". The HRP-2 sole of meshes/sole_box.geo (Q1, E = 4 MPa,
 // nu = 0.3). A timing app, not a test: prints tables, never passes or fails.
 // Usage: reduction_bench [--dense-up-to H] [h1 h2 ...] (m); the dense route is run for
 // h >= H only (default 0.004: below, C no longer fits a 2-core, 24 GB machine's time budget).
@@ -65,11 +66,19 @@ int main(int argc, char** argv) {
     }
     const Eigen::MatrixX3d& x = factored.contact_positions();
     const Eigen::Vector3d origin = x.colwise().mean().transpose();
-    for (const auto spacing : {coupling::GridSpacing::uniform, coupling::GridSpacing::chebyshev})
+    Eigen::VectorXd load(3 * n), areas(n);
+    factored.contact_load(Eigen::Vector3d(0, 0, 1), load);
+    for (int k = 0; k < n; ++k)
+      areas[k] = load[3 * k + 2];
+    const Eigen::VectorXd area_weights = coupling::pressure_weights(areas);
+    for (const int variant : {0, 1, 2}) // uniform, chebyshev, chebyshev with area shares
       for (int g = 2; g <= 32; g *= 2) {
+        const auto spacing =
+            variant == 0 ? coupling::GridSpacing::uniform : coupling::GridSpacing::chebyshev;
+        const Eigen::VectorXd weights = variant == 2 ? area_weights : Eigen::VectorXd();
         const auto patches = coupling::ReducedSole::grid_patches(x, g, g, spacing);
         start = std::chrono::steady_clock::now();
-        const coupling::ReducedSole reduced(factored, patches);
+        const coupling::ReducedSole reduced(factored, patches, weights);
         const double t_reduce = seconds_since(start);
         if (reduced.n_patches() >= n)
           break;
@@ -77,11 +86,12 @@ int main(int argc, char** argv) {
             coupling::reduction_error_estimate(factored.rigid_motion_stiffness(), reduced, origin);
         double difference = -1;
         if (dense) {
-          const coupling::ReducedSole from_c(x, dense->compliance(), patches);
+          const coupling::ReducedSole from_c(x, dense->compliance(), patches, weights);
           difference = (reduced.compliance() - from_c.compliance()).cwiseAbs().maxCoeff() /
                        from_c.compliance().cwiseAbs().maxCoeff();
         }
-        std::printf("grid %.4f %s %d %d %.4g %.3f %.1e\n", h, name(spacing), g, reduced.n_patches(),
+        std::printf("grid %.4f %s%s %d %d %.4g %.3f %.1e\n", h, name(spacing),
+                    variant == 2 ? "-area" : "", g, reduced.n_patches(),
                     estimate, t_reduce, difference);
         std::fflush(stdout);
       }

@@ -11,17 +11,19 @@
 // bench/fine_sole/); --auto TOL: sole model rows "auto TOL" (Sole/Reduced patches = auto,
 // Sole/Reduction tolerance = TOL); --graded-patches G and --graded-auto TOL: the same on
 // Chebyshev-graded grids (Sole/Reduction spacing = chebyshev), rows "graded GxG", "graded auto
-// TOL". For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole
-// scene unless given), one knob at a time is varied from the scene's own setting, the others
-// kept: sole mesh size, element degree, time step, the time step with the theta = 1/2 stepper
-// on a Kelvin-Voigt sole ("damped theta 1/2 dt"), contact solver tolerance, sole model
-// (reduced patches nx x ny, full) and the hyperelastic sole (Neo-Hookean, same E and nu, full
-// sole; Sole/Recondensation tolerance = Sole/Check tolerance varied) and the viscoelastic sole
-// (one Prony branch of half the scene's E relaxing in 4.5 ms: a standard linear solid whose
-// instantaneous modulus is the scene's, docs/reproduction.md), its time step and its mesh size
-// varied. --only runs the named knobs (and rigid feet). Each knob's finest value
-// is that knob's reference; the row "linear vs hyper" is the linear full sole against the
-// tightest hyperelastic run. Errors against the reference:
+// TOL" (all these with equal shares of a patch's force, Sole/Reduction weights = equal);
+// --area-patches G and --area-auto TOL: graded grids with shares by node area (the scene
+// default), rows "area GxG", "area auto TOL". For each scene (run with Robot/Foot form = fem sole;
+// durations: drop 0.5 s, walk the whole scene unless given), one knob at a time is varied from the
+// scene's own setting, the others kept: sole mesh size, element degree, time step, the time step
+// with the theta = 1/2 stepper on a Kelvin-Voigt sole ("damped theta 1/2 dt"), contact solver
+// tolerance, sole model (reduced patches nx x ny, full) and the hyperelastic sole (Neo-Hookean,
+// same E and nu, full sole; Sole/Recondensation tolerance = Sole/Check tolerance varied) and the
+// viscoelastic sole (one Prony branch of half the scene's E relaxing in 4.5 ms: a standard linear
+// solid whose instantaneous modulus is the scene's, docs/reproduction.md), its time step and its
+// mesh size varied. --only runs the named knobs (and rigid feet). Each knob's finest value is that
+// knob's reference; the row "linear vs hyper" is the linear full sole against the tightest
+// hyperelastic run. Errors against the reference:
 //   e_a  |max |a_z,waist| - ref| / ref                   (the paper's criterion)
 //   e_u  |max normal sole deformation - ref| / ref       (max over nodes and time)
 //   e_p  max_w |P_w - P_w,ref| / max_w |P_w,ref|, P_w the vertical contact impulse summed
@@ -43,6 +45,7 @@
 // same number of bytes (the active patch blocks and G, 3n x rank), measured here.
 // Writes DIR/work_precision.csv and prints the table. Never passes or fails.
 
+#include "apps/condensed_sole_foot.h"
 #include "apps/humanoid_simulation.h"
 #include "apps/scene.h"
 #include "apps/sole_patch_foot.h"
@@ -102,7 +105,8 @@ struct Result {
   // Issue 25's quantities of interest. patches: the reduced grid (0: the full sole).
   int patches_x = 0, patches_y = 0;
   coupling::GridSpacing spacing = coupling::GridSpacing::uniform; // of the reduced grid
-  double peak_af = 0;                           // filtered waist |a_z| peak, m/s^2
+  Eigen::VectorXd shares; // of the reduced sole's nodes in their patch's force (empty: full)
+  double peak_af = 0;     // filtered waist |a_z| peak, m/s^2
   std::array<std::vector<Landing>, 2> landings; // right, left
   Eigen::Matrix3Xd nodes;                       // contact points of a foot (sole frame, m)
   std::vector<double> frame_time;               // s
@@ -230,6 +234,9 @@ void run_one(const Scene& scene, Result& result, int repeat, double frame_every)
       result.patches_x = summary.sole_reduction_x;
       result.patches_y = summary.sole_reduction_y;
       result.spacing = scene.sole_reduction.spacing;
+      if (const auto* foot = dynamic_cast<const CondensedSoleFoot*>(&simulation.foot_model()))
+        if (foot->reduced())
+          result.shares = foot->reduced()->node_shares();
       result.reduction_estimate = summary.sole_reduction_estimate;
       if (fem) {
         const auto& sole = dynamic_cast<const SolePatchFoot&>(simulation.foot_model());
@@ -317,8 +324,9 @@ double landing_error(const Result& r, const Result& ref, double Landing::*figure
 /// foot force) and the contact
 /// force field: the relative Euclidean norm of the nodal normal forces' difference per frame
 /// (frames where the reference foot carries > 5 % of its largest force), its maximum and median. A
-/// reduced run's patch force F_j is spread as F_j / n_j over its nodes (coupling/reduced_sole.h);
-/// the field error needs the reference on the full sole of the same mesh.
+/// reduced run's patch force F_j is spread over its nodes by their shares
+/// (coupling/reduced_sole.h); the field error needs the reference on the full sole of the same
+/// mesh.
 void compare_issue25(Result& r, const Result& ref) {
   if (ref.peak_af > 0)
     r.e_af = std::abs(r.peak_af - ref.peak_af) / ref.peak_af;
@@ -360,7 +368,9 @@ void compare_issue25(Result& r, const Result& ref) {
       const Eigen::VectorXd& a = r.normal_force[foot][k];
       if (r.patches_x > 0)
         for (Eigen::Index i = 0; i < spread.size(); ++i)
-          spread[i] = a[patch_of_node[i]] / patch_size[patch_of_node[i]];
+          spread[i] =
+              a[patch_of_node[i]] *
+              (r.shares.size() == spread.size() ? r.shares[i] : 1.0 / patch_size[patch_of_node[i]]);
       else
         spread = a;
       errors.push_back((spread - b).norm() / b.norm());
@@ -473,6 +483,8 @@ int main(int argc, char** argv) {
   std::vector<double> auto_tolerances; // --auto: sole model rows with Reduced patches = auto
   std::vector<double> graded_patches;  // --graded-patches: sole model rows, Chebyshev grids
   std::vector<double> graded_auto;     // --graded-auto: auto rows on Chebyshev grids
+  std::vector<double> area_patches;    // --area-patches: Chebyshev grids, shares by node area
+  std::vector<double> area_auto;       // --area-auto: auto rows of the same
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc)
@@ -503,6 +515,10 @@ int main(int argc, char** argv) {
       graded_patches = number_list(argv[++i]);
     else if (a == "--graded-auto" && i + 1 < argc)
       graded_auto = number_list(argv[++i]);
+    else if (a == "--area-patches" && i + 1 < argc)
+      area_patches = number_list(argv[++i]);
+    else if (a == "--area-auto" && i + 1 < argc)
+      area_auto = number_list(argv[++i]);
     else if (a == "--only" && i + 1 < argc) {
       std::string list = argv[++i];
       for (std::size_t start = 0; start <= list.size();) {
@@ -517,7 +533,8 @@ int main(int argc, char** argv) {
                    "[--duration-drop S] [--duration-walk S] [--duration S] [--base-only] "
                    "[--no-hyperelastic] [--only KNOB,...] [--mesh-sizes H,...] [--patches G,...] "
                    "[--mesh-patches G,...] [--auto TOL,...] [--graded-patches G,...] "
-                   "[--graded-auto TOL,...] [--frame-every S]\n";
+                   "[--graded-auto TOL,...] [--area-patches G,...] [--area-auto TOL,...] "
+                   "[--frame-every S]\n";
       return 1;
     }
   }
@@ -644,28 +661,34 @@ int main(int argc, char** argv) {
       if (patches.empty())
         patches = {2, 3, 4, 6, 8};
       // Reduced soles: given grids and auto tolerances, on uniform and graded grids.
+      // Equal shares of a patch's force (reduced, graded) or shares by node area (area).
       const auto add_reduced = [&v](const std::string& prefix, coupling::GridSpacing spacing,
-                                    const std::vector<double>& grids,
+                                    bool area, const std::vector<double>& grids,
                                     const std::vector<double>& tolerances) {
         for (const double p : grids)
           v.push_back({"sole model", prefix + std::to_string(int(p)) + "x" + std::to_string(int(p)),
-                       [g = int(p), spacing](Scene& s) {
+                       [g = int(p), spacing, area](Scene& s) {
                          s.sole_reduction = {};
                          s.sole_reduction.patches_x = s.sole_reduction.patches_y = g;
                          s.sole_reduction.spacing = spacing;
+                         s.sole_reduction.area_weights = area;
                        }});
         for (const double tolerance : tolerances)
           v.push_back({"sole model", prefix + "auto " + fmt(tolerance, "%.3g"),
-                       [tolerance, spacing](Scene& s) {
+                       [tolerance, spacing, area](Scene& s) {
                          s.sole_reduction = {};
                          s.sole_reduction.automatic = true;
                          s.sole_reduction.tolerance = tolerance;
                          s.sole_reduction.spacing = spacing;
+                         s.sole_reduction.area_weights = area;
                        }});
       };
-      add_reduced("reduced ", coupling::GridSpacing::uniform, patches, {});
-      add_reduced("", coupling::GridSpacing::uniform, {}, auto_tolerances);
-      add_reduced("graded ", coupling::GridSpacing::chebyshev, graded_patches, graded_auto);
+      const auto uniform = coupling::GridSpacing::uniform;
+      const auto graded = coupling::GridSpacing::chebyshev;
+      add_reduced("reduced ", uniform, false, patches, {});
+      add_reduced("", uniform, false, {}, auto_tolerances);
+      add_reduced("graded ", graded, false, graded_patches, graded_auto);
+      add_reduced("area ", graded, true, area_patches, area_auto);
       v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
       knobs.push_back(v);
     }

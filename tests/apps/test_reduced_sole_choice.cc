@@ -37,10 +37,16 @@ TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
   const auto& sole_foot = dynamic_cast<const CondensedSoleFoot&>(reference.foot_model());
   const coupling::CondensedSole& sole = *sole_foot.sole();
   for (const char* tolerance : {"0.5", "0.2", "0.05", "0.01"}) {
+    // The scene's default shares a patch's force by node area (coupling::pressure_weights).
     const Scene scene = auto_scene(tolerance);
-    const coupling::ReductionChoice expected =
-        coupling::choose_reduction(sole.contact_positions(), sole.compliance(),
-                                   std::stod(tolerance), scene.sole_reduction.spacing);
+    ASSERT_TRUE(scene.sole_reduction.area_weights);
+    Eigen::VectorXd load(3 * n), areas(n);
+    sole.contact_load(Eigen::Vector3d(0, 0, 1), load);
+    for (int k = 0; k < n; ++k)
+      areas[k] = load[3 * k + 2];
+    const coupling::ReductionChoice expected = coupling::choose_reduction(
+        sole.contact_positions(), sole.compliance(), std::stod(tolerance),
+        scene.sole_reduction.spacing, coupling::pressure_weights(areas));
     HumanoidSimulation simulation(scene);
     simulation.run();
     const HumanoidSummary& s = simulation.summary();
@@ -72,8 +78,8 @@ TEST(ReducedSoleChoice, GivenGridReportsItsEstimate) {
   scene.sole_reduction.automatic = false;
   scene.sole_reduction.patches_x = scene.sole_reduction.patches_y = 2;
   HumanoidSimulation simulation(scene);
-  // The 3 cm sole's 2 x 2 estimate (test reduced_sole: 0.28).
-  EXPECT_NEAR(simulation.summary().sole_reduction_estimate, 0.28, 0.01);
+  // The 3 cm sole's 2 x 2 estimate with area shares (test reduced_sole: 0.3113).
+  EXPECT_NEAR(simulation.summary().sole_reduction_estimate, 0.3113, 0.001);
   EXPECT_EQ(simulation.summary().sole_reduction_x, 2);
 }
 
