@@ -45,7 +45,7 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   // A reduced sole (a grid, or auto) keeps the factorization of K instead of C: its C_r costs
   // 3P solves, and its fields come from the patch forces (coupling/condensed_sole.h).
   const SoleReductionParameters& reduction = scene.sole_reduction;
-  const bool reduce = reduction.automatic || reduction.patches_x > 0;
+  const bool reduce = reduction.reduced();
   if (reduce)
     condensation.form = coupling::CondensationParameters::Form::factorization;
   sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
@@ -66,8 +66,13 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
                 << positions.rows()
                 << " contact nodes meets Sole/Reduction tolerance = " << reduction.tolerance
                 << "; the full condensed sole is used\n";
+      // The full sole needs C: condensed again in the dense form (`positions` referred to the
+      // replaced sole).
       condensation.form = coupling::CondensationParameters::Form::dense;
       sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
+      set_patch(sole_->contact_positions().transpose(), sole_->compliance(),
+                scene.sole.damping_time);
+      return;
     }
   }
   if (nx == 0) {
