@@ -49,12 +49,13 @@ void OutputParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("VTK every", "40", dealii::Patterns::Integer(1),
                     "Humanoid scenes: one ParaView frame every this many time steps (and the "
                     "first and last steps).");
-  prm.declare_entry("VTK collection every", "1", dealii::Patterns::Integer(1),
+  prm.declare_entry("VTK collection every", "25", dealii::Patterns::Integer(1),
                     "Humanoid scenes: rewrite the .pvd collections (scene.pvd, links.pvd, ...) "
                     "every this many ParaView frames, and after the last frame (also when a run "
                     "fails). Each rewrite replaces the files (write, then rename), which costs "
                     "about 1.5 ms per file on ext4 (docs/performance.md, the rigid robot against "
-                    "MuJoCo): 25 rewrites once per simulated second at VTK every = 40, dt = 1 ms.");
+                    "MuJoCo): 25 rewrites once per simulated second at VTK every = 40, dt = 1 ms; "
+                    "1 rewrites them at every frame (a live view of a long run).");
   prm.declare_entry("VTK stick radius", "0.02", dealii::Patterns::Double(0.001, 0.2),
                     "Humanoid scenes: radius (m) of the cylinders drawn for links without URDF "
                     "<visual> or <collision> boxes or cylinders.");
