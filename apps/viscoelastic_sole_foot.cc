@@ -38,6 +38,9 @@ ViscoelasticSoleFoot::ViscoelasticSoleFoot(const Scene& scene) : thickness_(scen
   parameters.attached_boundary = groups.surface("top");
   parameters.contact_boundary = groups.surface("bottom");
   parameters.time_step = scene.simulation.time_step;
+  // The per-cell dissipation is a .vtu field only: without the series a separable sole runs in
+  // contact space (fem/viscoelastic_condensation.h).
+  parameters.cell_dissipation = scene.output.write_vtu;
   bottom_ = parameters.contact_boundary;
   for (auto& sole : soles_) // sole frame = pad frame until attach places them on the feet
     sole = std::make_unique<coupling::ViscoelasticPad>(tria, scene.sole.degree, materials,
@@ -105,7 +108,8 @@ ViscoelasticSoleFoot::stress_postprocessor(int foot) const {
 std::vector<PadCellField> ViscoelasticSoleFoot::cell_fields(int foot) const {
   fem::ViscoelasticCellFields fields = soles_[foot]->sole().cell_fields();
   std::vector<PadCellField> out;
-  out.push_back({"dissipated_energy_density", std::move(fields.dissipated_energy_density)});
+  if (!fields.dissipated_energy_density.empty()) // empty in the contact-space form
+    out.push_back({"dissipated_energy_density", std::move(fields.dissipated_energy_density)});
   out.push_back({"von_mises", std::move(fields.von_mises)});
   for (std::size_t i = 0; i < fields.overstress.size(); ++i)
     out.push_back({"overstress_" + std::to_string(i + 1), std::move(fields.overstress[i])});

@@ -182,6 +182,8 @@ ViscoelasticCondensation::ViscoelasticCondensation(
     RegionStep region;
     region.effective = material.effective_stiffness(dt);
     region.long_term = material.long_term_stiffness();
+    region.effective_shear = material.shear_modulus();
+    region.effective_bulk = material.bulk_modulus();
     for (const PronyBranch& branch : material.branches()) {
       double decay = 0, gamma = 0;
       ViscoelasticMaterial::step_factors(dt, branch.relaxation_time, decay, gamma);
@@ -189,6 +191,8 @@ ViscoelasticCondensation::ViscoelasticCondensation(
       region.bulk.push_back(branch.bulk_modulus);
       region.decay.push_back(decay);
       region.gamma.push_back(gamma);
+      region.effective_shear += gamma * branch.shear_modulus;
+      region.effective_bulk += gamma * branch.bulk_modulus;
       const double x = dt / branch.relaxation_time;
       double ee = 0, e_one = 0, one_one = 0;
       step_integrals(x, ee, e_one, one_one);
@@ -198,6 +202,8 @@ ViscoelasticCondensation::ViscoelasticCondensation(
     }
     regions_.emplace(id, std::move(region));
   }
+  check_separable();
+  contact_space_ = separable_ && !parameters_.cell_dissipation;
   const unsigned int n_q = discretization_.cell_quadrature.size();
   cell_region_.resize(triangulation.n_active_cells());
   cell_history_.resize(triangulation.n_active_cells() + 1);
@@ -206,10 +212,12 @@ ViscoelasticCondensation::ViscoelasticCondensation(
     const RegionStep& region = regions_.at(cell->material_id());
     cell_region_[cell->active_cell_index()] = &region;
     cell_history_[cell->active_cell_index()] = n_history;
-    n_history += std::size_t{n_q} * region.decay.size();
+    if (!contact_space_)
+      n_history += std::size_t{n_q} * region.decay.size();
   }
   history_.assign(n_history, SymmetricTensor<2, 3>());
-  strain_.assign(std::size_t{n_q} * triangulation.n_active_cells(), SymmetricTensor<2, 3>());
+  if (!contact_space_)
+    strain_.assign(std::size_t{n_q} * triangulation.n_active_cells(), SymmetricTensor<2, 3>());
 
   const unsigned int n = dof_handler_.n_dofs();
   solution_.reinit(n);
@@ -219,7 +227,15 @@ ViscoelasticCondensation::ViscoelasticCondensation(
   history_displacement_.reinit(3 * n_contacts());
   contact_displacement_.reinit(3 * n_contacts());
   previous_forces_.reinit(3 * n_contacts());
-  cell_dissipation_.assign(triangulation.n_active_cells(), 0.0);
+  if (contact_space_) {
+    force_state_.reinit(3 * n_contacts());
+    next_force_state_.reinit(3 * n_contacts());
+    next_contact_displacement_.reinit(3 * n_contacts());
+    branch_force_state_.assign(beta_.size(), Vector<double>(3 * n_contacts()));
+    branch_contact_history_.assign(beta_.size(), Vector<double>(3 * n_contacts()));
+  } else {
+    cell_dissipation_.assign(triangulation.n_active_cells(), 0.0);
+  }
 
   const auto& fe = *discretization_.fe;
   impl_->fe_values = std::make_unique<FEValues<3>>(
@@ -303,6 +319,10 @@ void ViscoelasticCondensation::advance(const Vector<double>& contact_forces) {
     throw std::invalid_argument(
         "ViscoelasticCondensation::advance: " + std::to_string(contact_forces.size()) +
         " contact forces (expected 3 n_c = " + std::to_string(3 * n_contacts()) + ")");
+  if (contact_space_) {
+    advance_contact_space(contact_forces);
+    return;
+  }
   auto start = std::chrono::steady_clock::now();
   // K_eff u^{n+1} = P f - f_h^n.
   rhs_ = history_force_;
@@ -427,7 +447,129 @@ void ViscoelasticCondensation::update_history() {
       history_displacement_(3 * k + d) = -history_solution_(contact_dofs_[k][d]);
 }
 
+void ViscoelasticCondensation::check_separable() {
+  // C_ri = beta_i C_eff,r: G_ri / G_eff,r = K_ri / K_eff,r = beta_i, the same in every region.
+  auto near = [](double x, double y) {
+    return std::abs(x - y) <= 1e-10 * std::max(std::abs(x), std::abs(y));
+  };
+  separable_ = true;
+  beta_.clear();
+  const RegionStep* first = nullptr;
+  for (const auto& [id, region] : regions_) {
+    (void)id;
+    const std::size_t n_branches = region.decay.size();
+    std::vector<double> beta(n_branches);
+    for (std::size_t i = 0; i < n_branches; ++i) {
+      const double shear = region.shear[i] / region.effective_shear;
+      const double bulk = region.bulk[i] / region.effective_bulk;
+      separable_ = separable_ && near(shear, bulk);
+      beta[i] = shear;
+    }
+    if (first == nullptr) {
+      first = &region;
+      beta_ = beta;
+      continue;
+    }
+    separable_ = separable_ && n_branches == first->decay.size();
+    for (std::size_t i = 0; separable_ && i < n_branches; ++i)
+      separable_ = near(beta[i], beta_[i]) && near(region.decay[i], first->decay[i]) &&
+                   near(region.gamma[i], first->gamma[i]);
+  }
+  if (!separable_ || first == nullptr) {
+    beta_.clear();
+    return;
+  }
+  decay_ = first->decay;
+  gamma_ = first->gamma;
+  w_aa_ = first->w_aa;
+  w_ac_ = first->w_ac;
+  w_cc_ = first->w_cc;
+}
+
+void ViscoelasticCondensation::advance_contact_space(const Vector<double>& contact_forces) {
+  const auto start = std::chrono::steady_clock::now();
+  const unsigned int n = 3 * n_contacts();
+  const std::size_t n_branches = beta_.size();
+  // a^{n+1} = f^{n+1} - sum_i beta_i (e_i b_i^n - gamma_i a^n), u_c^{n+1} = C_eff a^{n+1}.
+  for (unsigned int j = 0; j < n; ++j) {
+    double a = contact_forces(j);
+    for (std::size_t i = 0; i < n_branches; ++i)
+      a -= beta_[i] * (decay_[i] * branch_force_state_[i](j) - gamma_[i] * force_state_(j));
+    next_force_state_(j) = a;
+  }
+  for (unsigned int r = 0; r < n; ++r) {
+    const double* row = compliance_.data() + std::size_t{r} * n;
+    double u = 0;
+    for (unsigned int j = 0; j < n; ++j)
+      u += row[j] * next_force_state_(j);
+    next_contact_displacement_(r) = u;
+  }
+  // The step's dissipation, the quadrature form's integrated: q_i^T K_i q_i = beta_i b_i . q_c,i,
+  // q_i^T K_i (u^{n+1} - u^n) = beta_i b_i . (u_c^{n+1} - u_c^n), and so on.
+  for (std::size_t i = 0; i < n_branches; ++i) {
+    const Vector<double>& b = branch_force_state_[i];
+    const Vector<double>& q = branch_contact_history_[i];
+    double aa = 0, ac = 0, cc = 0;
+    for (unsigned int j = 0; j < n; ++j) {
+      const double du = next_contact_displacement_(j) - contact_displacement_(j);
+      aa += b(j) * q(j);
+      ac += b(j) * du;
+      cc += (next_force_state_(j) - force_state_(j)) * du;
+    }
+    dissipated_energy_ += beta_[i] * (w_aa_[i] * aa + w_ac_[i] * ac + w_cc_[i] * cc);
+  }
+  for (unsigned int j = 0; j < n; ++j) {
+    const double da = next_force_state_(j) - force_state_(j);
+    const double du = next_contact_displacement_(j) - contact_displacement_(j);
+    external_work_ += 0.5 * (previous_forces_(j) + contact_forces(j)) * du;
+    for (std::size_t i = 0; i < n_branches; ++i) {
+      branch_force_state_[i](j) = decay_[i] * branch_force_state_[i](j) + gamma_[i] * da;
+      branch_contact_history_[i](j) = decay_[i] * branch_contact_history_[i](j) + gamma_[i] * du;
+    }
+    force_state_(j) = next_force_state_(j);
+    contact_displacement_(j) = next_contact_displacement_(j);
+    previous_forces_(j) = contact_forces(j);
+  }
+  // d^{n+1} = -sum_i beta_i (e_i q_c,i^{n+1} - gamma_i u_c^{n+1}).
+  for (unsigned int j = 0; j < n; ++j) {
+    double d = 0;
+    for (std::size_t i = 0; i < n_branches; ++i)
+      d -= beta_[i] *
+           (decay_[i] * branch_contact_history_[i](j) - gamma_[i] * contact_displacement_(j));
+    history_displacement_(j) = d;
+  }
+  solution_current_ = false;
+  time_ += parameters_.time_step;
+  timings_.field_solve = 0;
+  timings_.history = seconds_since(start);
+}
+
+void ViscoelasticCondensation::field_of_contact_forces(const Vector<double>& force,
+                                                       Vector<double>& field) const {
+  Vector<double> rhs(dof_handler_.n_dofs());
+  for (unsigned int k = 0; k < n_contacts(); ++k)
+    for (unsigned int d = 0; d < 3; ++d)
+      rhs(contact_dofs_[k][d]) = force(3 * k + d);
+  field.reinit(dof_handler_.n_dofs());
+  impl_->solve(rhs.begin(), field.begin());
+}
+
+const Vector<double>& ViscoelasticCondensation::solution() const {
+  if (!solution_current_) {
+    field_of_contact_forces(force_state_, solution_);
+    solution_current_ = true;
+  }
+  return solution_;
+}
+
 void ViscoelasticCondensation::reset() {
+  for (auto* v : {&force_state_, &next_force_state_, &next_contact_displacement_})
+    *v = 0;
+  for (auto& v : branch_force_state_)
+    v = 0;
+  for (auto& v : branch_contact_history_)
+    v = 0;
+  solution_current_ = true;
   std::fill(history_.begin(), history_.end(), SymmetricTensor<2, 3>());
   std::fill(strain_.begin(), strain_.end(), SymmetricTensor<2, 3>());
   solution_ = 0;
@@ -466,6 +608,16 @@ SymmetricTensor<2, 3> ViscoelasticCondensation::strain_at(unsigned int index, un
 }
 
 double ViscoelasticCondensation::stored_energy() const {
+  if (contact_space_) {
+    // C_inf = (1 - sum_i gamma_i beta_i) C_eff: 1/2 u^T K_inf u + sum_i 1/2 q_i^T K_i q_i.
+    double long_term = 1;
+    for (std::size_t i = 0; i < beta_.size(); ++i)
+      long_term -= gamma_[i] * beta_[i];
+    double energy = 0.5 * long_term * (force_state_ * contact_displacement_);
+    for (std::size_t i = 0; i < beta_.size(); ++i)
+      energy += 0.5 * beta_[i] * (branch_force_state_[i] * branch_contact_history_[i]);
+    return energy;
+  }
   Impl& w = *impl_;
   const unsigned int n_q = discretization_.cell_quadrature.size();
   double energy = 0;
@@ -493,9 +645,46 @@ ViscoelasticCellFields ViscoelasticCondensation::cell_fields() const {
   for (const auto& [id, region] : regions_)
     n_branches = std::max(n_branches, region.decay.size());
   ViscoelasticCellFields fields;
-  fields.dissipated_energy_density.assign(n_cells, 0.0);
   fields.von_mises.assign(n_cells, 0.0);
   fields.overstress.assign(n_branches, std::vector<double>(n_cells, 0.0));
+  if (contact_space_) {
+    // h_i = C_i : eps(q_i), q_i = K_eff^-1 P b_i.
+    std::vector<Vector<double>> histories(n_branches);
+    for (std::size_t i = 0; i < n_branches; ++i)
+      field_of_contact_forces(branch_force_state_[i], histories[i]);
+    const Vector<double>& u = solution();
+    const SymmetricTensor<2, 3> identity = unit_symmetric_tensor<3>();
+    std::vector<SymmetricTensor<2, 3>> overstress(std::size_t{n_q} * n_branches);
+    for (const auto& cell : dof_handler_.active_cell_iterators()) {
+      const unsigned int index = cell->active_cell_index();
+      const RegionStep& region = *cell_region_[index];
+      for (std::size_t i = 0; i < n_branches; ++i) {
+        w.gather(cell, histories[i]);
+        for (unsigned int q = 0; q < n_q; ++q) {
+          const SymmetricTensor<2, 3> e = strain_at(index, q, w.local.data());
+          overstress[i * n_q + q] =
+              2.0 * region.shear[i] * deviator(e) + (region.bulk[i] * trace(e)) * identity;
+        }
+      }
+      w.gather(cell, u);
+      SymmetricTensor<2, 3> stress;
+      double volume = 0;
+      for (unsigned int q = 0; q < n_q; ++q) {
+        const double jxw = w.jxw[std::size_t{index} * n_q + q];
+        stress += (region.long_term * strain_at(index, q, w.local.data())) * jxw;
+        for (std::size_t i = 0; i < n_branches; ++i) {
+          stress += overstress[i * n_q + q] * jxw;
+          fields.overstress[i][index] += overstress[i * n_q + q].norm() * jxw;
+        }
+        volume += jxw;
+      }
+      fields.von_mises[index] = von_mises(stress / volume);
+      for (std::size_t i = 0; i < n_branches; ++i)
+        fields.overstress[i][index] /= volume;
+    }
+    return fields;
+  }
+  fields.dissipated_energy_density.assign(n_cells, 0.0);
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     const unsigned int index = cell->active_cell_index();
     const RegionStep& region = *cell_region_[index];
@@ -529,7 +718,7 @@ SymmetricTensor<2, 3> ViscoelasticCondensation::mean_strain() const {
   double volume = 0;
   for (const auto& cell : dof_handler_.active_cell_iterators()) {
     fe_values.reinit(cell);
-    fe_values[displacement].get_function_symmetric_gradients(solution_, strains);
+    fe_values[displacement].get_function_symmetric_gradients(solution(), strains);
     for (unsigned int q = 0; q < strains.size(); ++q) {
       sum += strains[q] * fe_values.JxW(q);
       volume += fe_values.JxW(q);

@@ -5,7 +5,10 @@
 //    two-material sole whose regions relax differently (non-proportional damping);
 //  - limits: dt -> 0 and dt -> inf, and a held load, against linear elastic solves
 //    (fem::LinearElasticity) with G_0, K_0 and G_inf, K_inf;
-//  - no heap allocation in advance(); bad input.
+//  - the contact-space form of a separable sole (branches proportional per region) against the
+//    quadrature form: displacements, history, energies, fields to round-off; non-separable
+//    soles keep the quadrature form;
+//  - no heap allocation in advance() (both forms); bad input.
 #include "fem/linear_elasticity.h"
 #include "fem/material_table.h"
 #include "fem/viscoelastic_condensation.h"
@@ -307,25 +310,150 @@ TEST(ViscoelasticCondensation, InstantaneousAndLongTermLimitsAreElasticSolves) {
   EXPECT_GT(relative_difference(sole.contact_displacement(), first_elastic), 0.1);
 }
 
-TEST(ViscoelasticCondensation, AdvanceDoesNotAllocate) {
+// Two regions of different moduli and Poisson ratios sharing one relaxation spectrum shape
+// (E_i / E = 1.5 and 0.5 at tau 1 ms and 50 ms, law=prony with E<i>): separable.
+std::map<material_id, ViscoelasticMaterial> separable_materials() {
+  auto prony = [](double E, double nu, const std::string& name) {
+    auto g = [nu](double e) { return e / (2 * (1 + nu)); };
+    auto k = [nu](double e) { return e / (3 * (1 - 2 * nu)); };
+    return ViscoelasticMaterial(
+        g(E), k(E), {{g(1.5 * E), k(1.5 * E), 1e-3}, {g(0.5 * E), k(0.5 * E), 5e-2}}, name);
+  };
+  std::map<material_id, ViscoelasticMaterial> m;
+  m.emplace(0, prony(2e6, 0.45, "heel"));
+  m.emplace(1, prony(5e6, 0.3, "fore"));
+  return m;
+}
+
+TEST(ViscoelasticCondensation, ContactSpaceFormEqualsTheQuadratureForm) {
+  for (const Case& test :
+       {Case{CellKind::hexahedron, 1, 4, 4, 2}, Case{CellKind::tetrahedron, 2, 2, 2, 1}}) {
+    dealii::Triangulation<3> tria;
+    make_sole(tria, test.kind, test.nx, test.ny, test.nz);
+    const Discretization disc(test.kind, test.degree);
+    SCOPED_TRACE(disc.name());
+    const ViscoelasticMaterialTable table(separable_materials());
+    const double dt = 2e-3;
+    ViscoelasticCondensation quadrature(tria, disc, table, parameters(dt));
+    ViscoelasticCondensationParameters p = parameters(dt);
+    p.cell_dissipation = false;
+    ViscoelasticCondensation contact(tria, disc, table, p);
+    EXPECT_TRUE(quadrature.separable() && contact.separable());
+    EXPECT_FALSE(quadrature.contact_space());
+    ASSERT_TRUE(contact.contact_space());
+    EXPECT_EQ(contact.n_internal_variables(), 0u);
+    EXPECT_TRUE(contact.cell_dissipated_energy().empty());
+
+    const unsigned int n = 3 * contact.n_contacts();
+    dealii::Vector<double> f(n);
+    double worst_u = 0, worst_d = 0;
+    for (int step = 1; step <= 300; ++step) {
+      forces_at(step * dt, contact.n_contacts(), f);
+      quadrature.advance(f);
+      contact.advance(f);
+      worst_u = std::max(worst_u, relative_difference(contact.contact_displacement(),
+                                                      quadrature.contact_displacement()));
+      if (quadrature.history_displacement().linfty_norm() > 0)
+        worst_d = std::max(worst_d, relative_difference(contact.history_displacement(),
+                                                        quadrature.history_displacement()));
+      if (step % 100 == 0) { // energies and fields at a few steps
+        const double work = quadrature.external_work(), stored = quadrature.stored_energy();
+        const double dissipated = quadrature.dissipated_energy();
+        EXPECT_NEAR(contact.external_work(), work, 1e-10 * std::abs(work));
+        EXPECT_NEAR(contact.stored_energy(), stored, 1e-10 * stored);
+        EXPECT_NEAR(contact.dissipated_energy(), dissipated, 1e-10 * dissipated);
+        EXPECT_GT(dissipated, 1e-3 * std::abs(work)); // the branches dissipate here
+        EXPECT_LT(relative_difference(contact.solution(), quadrature.solution()), 1e-10);
+        const ViscoelasticCellFields a = contact.cell_fields(), b = quadrature.cell_fields();
+        EXPECT_TRUE(a.dissipated_energy_density.empty());
+        ASSERT_EQ(a.overstress.size(), 2u);
+        auto worst = [](const std::vector<double>& x, const std::vector<double>& y) {
+          double d = 0, m = 0;
+          for (std::size_t i = 0; i < x.size(); ++i) {
+            d = std::max(d, std::abs(x[i] - y[i]));
+            m = std::max(m, std::abs(y[i]));
+          }
+          return d / m;
+        };
+        EXPECT_LT(worst(a.von_mises, b.von_mises), 1e-10);
+        EXPECT_LT(worst(a.overstress[0], b.overstress[0]), 1e-10);
+        EXPECT_LT(worst(a.overstress[1], b.overstress[1]), 1e-10);
+        EXPECT_LT((contact.mean_strain() - quadrature.mean_strain()).norm(),
+                  1e-10 * quadrature.mean_strain().norm());
+      }
+    }
+    std::printf("%s: contact space vs quadrature points: u_c %.1e, d %.1e (relative, max over "
+                "300 steps)\n",
+                disc.name().c_str(), worst_u, worst_d);
+    EXPECT_LT(worst_u, 1e-10);
+    EXPECT_LT(worst_d, 1e-10);
+    // Back to rest: the same response again.
+    contact.reset();
+    quadrature.reset();
+    forces_at(dt, contact.n_contacts(), f);
+    contact.advance(f);
+    quadrature.advance(f);
+    EXPECT_LT(
+        relative_difference(contact.contact_displacement(), quadrature.contact_displacement()),
+        1e-12);
+  }
+}
+
+TEST(ViscoelasticCondensation, NonSeparableSolesKeepTheQuadratureForm) {
   dealii::Triangulation<3> tria;
-  make_sole(tria, CellKind::hexahedron, 3, 3, 2);
+  make_sole(tria, CellKind::hexahedron, 2, 2, 1);
   const Discretization disc(CellKind::hexahedron, 1);
-  const ViscoelasticMaterialTable table(two_materials());
-  ViscoelasticCondensation sole(tria, disc, table, parameters(1e-3));
-  dealii::Vector<double> f(3 * sole.n_contacts());
-  forces_at(0.01, sole.n_contacts(), f);
-  sole.advance(f);
-  plantar::testing::n_allocations = 0;
-  plantar::testing::counting = true;
-  void* live = ::operator new(sizeof(int)); // the counter is live (an explicit call)
-  ::operator delete(live);
-  const long baseline = plantar::testing::n_allocations;
-  for (int step = 0; step < 5; ++step)
+  ViscoelasticCondensationParameters p = parameters(1e-3);
+  p.cell_dissipation = false;
+  // Regions relaxing differently (a shear-only branch in one).
+  const ViscoelasticMaterialTable different(two_materials());
+  ViscoelasticCondensation first(tria, disc, different, p);
+  EXPECT_FALSE(first.separable());
+  EXPECT_FALSE(first.contact_space());
+  EXPECT_GT(first.n_internal_variables(), 0u);
+  // A proportional region next to an elastic one.
+  auto by_id = separable_materials();
+  by_id.erase(1);
+  by_id.emplace(1, ViscoelasticMaterial(1e6, 3e6, {}, "plate"));
+  const ViscoelasticMaterialTable with_elastic(by_id);
+  ViscoelasticCondensation second(tria, disc, with_elastic, p);
+  EXPECT_FALSE(second.separable());
+  // The same spectrum shape at another relaxation time in one region.
+  by_id = separable_materials();
+  const ViscoelasticMaterial& fore = by_id.at(1);
+  std::vector<PronyBranch> branches = fore.branches();
+  branches[1].relaxation_time = 6e-2;
+  by_id.erase(1);
+  by_id.emplace(1, ViscoelasticMaterial(fore.shear_modulus(), fore.bulk_modulus(), branches));
+  const ViscoelasticMaterialTable other_time(by_id);
+  ViscoelasticCondensation third(tria, disc, other_time, p);
+  EXPECT_FALSE(third.separable());
+}
+
+TEST(ViscoelasticCondensation, AdvanceDoesNotAllocate) {
+  for (const bool contact_space : {false, true}) {
+    dealii::Triangulation<3> tria;
+    make_sole(tria, CellKind::hexahedron, 3, 3, 2);
+    const Discretization disc(CellKind::hexahedron, 1);
+    const ViscoelasticMaterialTable table(contact_space ? separable_materials() : two_materials());
+    ViscoelasticCondensationParameters p = parameters(1e-3);
+    p.cell_dissipation = !contact_space;
+    ViscoelasticCondensation sole(tria, disc, table, p);
+    EXPECT_EQ(sole.contact_space(), contact_space);
+    dealii::Vector<double> f(3 * sole.n_contacts());
+    forces_at(0.01, sole.n_contacts(), f);
     sole.advance(f);
-  plantar::testing::counting = false;
-  EXPECT_EQ(baseline, 1);
-  EXPECT_EQ(plantar::testing::n_allocations - baseline, 0);
+    plantar::testing::n_allocations = 0;
+    plantar::testing::counting = true;
+    void* live = ::operator new(sizeof(int)); // the counter is live (an explicit call)
+    ::operator delete(live);
+    const long baseline = plantar::testing::n_allocations;
+    for (int step = 0; step < 5; ++step)
+      sole.advance(f);
+    plantar::testing::counting = false;
+    EXPECT_EQ(baseline, 1);
+    EXPECT_EQ(plantar::testing::n_allocations - baseline, 0);
+  }
 }
 
 TEST(ViscoelasticBadInput, ParametersAreNamedWithValueAndRange) {
