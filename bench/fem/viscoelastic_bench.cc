@@ -70,6 +70,15 @@ void make_box(CellKind kind, unsigned int refinement, dealii::Triangulation<3>& 
     cell->set_material_id(cell->center()[0] < L / 3 ? 0 : 1);
 }
 
+// Top attached (id 5), bottom in contact (id 4), dt = 1 ms.
+ViscoelasticCondensationParameters bench_parameters() {
+  ViscoelasticCondensationParameters parameters;
+  parameters.attached_boundary = 5;
+  parameters.contact_boundary = 4;
+  parameters.time_step = 1e-3;
+  return parameters;
+}
+
 void load_at(double t, unsigned int n_contacts, dealii::Vector<double>& f) {
   for (unsigned int k = 0; k < n_contacts; ++k)
     f(3 * k + 2) = -2.0 * (1 - std::cos(2 * M_PI * 5 * t)) * (1 + 0.01 * k);
@@ -81,10 +90,7 @@ void run(CellKind kind, unsigned int degree, unsigned int refinement) {
   const std::vector<unsigned int> cells{6 * refinement, 3 * refinement, refinement};
   const Discretization disc(kind, degree);
   const ViscoelasticMaterialTable table(materials());
-  ViscoelasticCondensationParameters parameters;
-  parameters.attached_boundary = 5;
-  parameters.contact_boundary = 4;
-  parameters.time_step = 1e-3;
+  ViscoelasticCondensationParameters parameters = bench_parameters();
   ViscoelasticCondensation sole(tria, disc, table, parameters);
   const unsigned int n = 3 * sole.n_contacts();
   dealii::Vector<double> f(n), u(n);
@@ -118,10 +124,7 @@ void run_separable(CellKind kind, unsigned int degree, unsigned int refinement) 
   make_box(kind, refinement, tria);
   const Discretization disc(kind, degree);
   const ViscoelasticMaterialTable table(separable_materials());
-  ViscoelasticCondensationParameters parameters;
-  parameters.attached_boundary = 5;
-  parameters.contact_boundary = 4;
-  parameters.time_step = 1e-3;
+  ViscoelasticCondensationParameters parameters = bench_parameters();
   ViscoelasticCondensation quadrature(tria, disc, table, parameters);
   parameters.cell_dissipation = false;
   ViscoelasticCondensation contact(tria, disc, table, parameters);
