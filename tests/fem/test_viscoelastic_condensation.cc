@@ -412,20 +412,21 @@ TEST(ViscoelasticCondensation, NonSeparableSolesKeepTheQuadratureForm) {
   EXPECT_FALSE(first.contact_space());
   EXPECT_GT(first.n_internal_variables(), 0u);
   // A proportional region next to an elastic one.
-  auto by_id = separable_materials();
-  by_id.erase(1);
-  by_id.emplace(1, ViscoelasticMaterial(1e6, 3e6, {}, "plate"));
-  const ViscoelasticMaterialTable with_elastic(by_id);
+  auto with_elastic_by_id = separable_materials();
+  with_elastic_by_id.erase(1);
+  with_elastic_by_id.emplace(1, ViscoelasticMaterial(1e6, 3e6, {}, "plate"));
+  const ViscoelasticMaterialTable with_elastic(with_elastic_by_id);
   ViscoelasticCondensation second(tria, disc, with_elastic, p);
   EXPECT_FALSE(second.separable());
   // The same spectrum shape at another relaxation time in one region.
-  by_id = separable_materials();
-  const ViscoelasticMaterial& fore = by_id.at(1);
+  auto other_time_by_id = separable_materials();
+  const ViscoelasticMaterial fore = other_time_by_id.at(1); // a copy: erased below
   std::vector<PronyBranch> branches = fore.branches();
   branches[1].relaxation_time = 6e-2;
-  by_id.erase(1);
-  by_id.emplace(1, ViscoelasticMaterial(fore.shear_modulus(), fore.bulk_modulus(), branches));
-  const ViscoelasticMaterialTable other_time(by_id);
+  other_time_by_id.erase(1);
+  other_time_by_id.emplace(
+      1, ViscoelasticMaterial(fore.shear_modulus(), fore.bulk_modulus(), branches));
+  const ViscoelasticMaterialTable other_time(other_time_by_id);
   ViscoelasticCondensation third(tria, disc, other_time, p);
   EXPECT_FALSE(third.separable());
 }
