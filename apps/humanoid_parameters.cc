@@ -108,6 +108,8 @@ const ChoiceTable<contact::ContactSolverType> contact_solvers{
     {contact::ContactSolverType::automatic, "auto"}};
 const ChoiceTable<walking::LegIkMethod> leg_ik_methods{
     {walking::LegIkMethod::automatic, "automatic"}, {walking::LegIkMethod::numerical, "numerical"}};
+const ChoiceTable<FootstepPlacement> footstep_placements{{FootstepPlacement::flat, "flat"},
+                                                         {FootstepPlacement::terrain, "terrain"}};
 const ChoiceTable<StabilizerType> stabilizer_types{{StabilizerType::none, "none"},
                                                    {StabilizerType::dcm, "dcm"}};
 const ChoiceTable<walking::StateEstimate> state_estimates{
@@ -453,6 +455,14 @@ const std::vector<ControlNumber>& control_numbers() {
        "s: low-pass of the estimated CoM velocity (finite difference of the kinematic CoM)."},
       {"Contact height", [](C& c) { return &c.balance.contact_height; }, 0, true,
        "m: a foot whose reference sole is within this of the ground may be in contact."},
+      {"Touchdown force", [](C& c) { return &c.balance.touchdown.force; }, 0, true,
+       "N: Touchdown adaptation: an F/T normal force above this marks the swing foot's "
+       "touchdown (docs/stabilizer.md)."},
+      {"Touchdown search velocity", [](C& c) { return &c.balance.touchdown.search_velocity; }, 0,
+       true,
+       "m/s: a foot that has not touched down when its plan is down moves down at this speed."},
+      {"Max touchdown offset", [](C& c) { return &c.balance.touchdown.max_offset; }, 0, true,
+       "m: clamp of the ground level a foot finds above or below its plan."},
       {"IMU orientation noise", [](C& c) { return &c.balance.sensors.orientation.noise; }, 0, false,
        "rad, standard deviation of the IMU orientation's white noise (rotation vector)."},
       {"IMU orientation bias", [](C& c) { return &c.balance.sensors.orientation.bias; }, -1e300,
@@ -497,6 +507,10 @@ void ControlParameters::declare(dealii::ParameterHandler& prm) {
   for (const ControlNumber& entry : control_numbers())
     prm.declare_entry(entry.name, number_text(*entry.member(d)),
                       entry.lower < -1e299 ? Double() : Double(entry.lower), entry.help);
+  prm.declare_entry("Touchdown adaptation", d.balance.touchdown.enabled ? "true" : "false", Bool(),
+                    "Stabilizer = dcm: each swing foot stops where it touches the ground early "
+                    "and searches downwards when late; the foot keeps the level it found "
+                    "(multibody/walking/touchdown_adaptation.h).");
   prm.declare_entry("Sensor delay", std::to_string(d.balance.sensors.delay), Integer(0, 1000),
                     "Every sensor's delay in control periods (= Simulation/Time step).");
   prm.declare_entry("Sensor seed", std::to_string(d.balance.sensors.seed), Integer(0),
@@ -522,6 +536,7 @@ void ControlParameters::parse(dealii::ParameterHandler& prm) {
             (entry.strict ? "> " : ">= ") + number_text(entry.lower));
     *entry.member(*this) = value;
   }
+  balance.touchdown.enabled = prm.get_bool("Touchdown adaptation");
   balance.sensors.delay = prm.get_integer("Sensor delay");
   require(balance.sensors.delay >= 0 && balance.sensors.delay <= 1000, "Control/Sensor delay",
           balance.sensors.delay, "in [0, 1000] control periods");
@@ -560,6 +575,17 @@ void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
                     "'x, y, yaw; x, y, yaw; ...' (m, m, rad); default: the paper's six steps.");
   prm.declare_entry("Preview time", "1.6", Double(0, 10),
                     "Preview horizon (s), [0, 10], Kajita 2003.");
+  const WalkingSceneParameters w;
+  prm.declare_entry("Footstep placement", choice_name(footstep_placements, w.placement),
+                    choice_pattern(footstep_placements),
+                    "flat: the walk is planned on a level ground (raised once onto the highest "
+                    "ground under the feet at t = 0); terrain: each placement (initial soles and "
+                    "footsteps) rests on the terrain on three of the foot's contact points, its "
+                    "centre carried, none below the ground (docs/terrain.md).");
+  prm.declare_entry("Footprint samples", std::to_string(w.footprint_samples), Integer(2, 100),
+                    "Footstep placement = terrain with a foot of more than (samples)^2 contact "
+                    "points: an samples x samples grid over Sole/Length x Sole/Width stands for "
+                    "them, [2, 100].");
 }
 
 void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
@@ -579,6 +605,9 @@ void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
   if (walk.footsteps.empty())
     throw std::invalid_argument("Walking/Footsteps is empty: give at least one 'x, y, yaw'");
   preview_time = prm.get_double("Preview time");
+  placement = parse_choice(footstep_placements, prm.get("Footstep placement"),
+                           "Walking/Footstep placement");
+  footprint_samples = static_cast<int>(prm.get_integer("Footprint samples"));
   try {
     walking::check_walking_parameters(walk);
   } catch (const std::invalid_argument& e) {

@@ -138,9 +138,19 @@ struct ControlParameters {
 
 /// Subsection "Walking": footsteps, timing and step height (walking::WalkingParameters) and
 /// the preview horizon.
+/// Walking/Footstep placement.
+enum class FootstepPlacement {
+  flat,    ///< every sole at z = 0, level (the walk is raised onto the ground under the feet)
+  terrain, ///< each sole at rest on the terrain under it (multibody/walking/terrain_footsteps.h)
+};
+
 struct WalkingSceneParameters {
   walking::WalkingParameters walk;
   double preview_time = 1.6; ///< s, Kajita 2003
+  FootstepPlacement placement = FootstepPlacement::flat;
+  /// A foot of more than footprint_samples^2 contact points is placed by a grid of
+  /// footprint_samples per side over its outline, [2, 100].
+  int footprint_samples = 9;
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };

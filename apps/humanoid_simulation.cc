@@ -105,13 +105,20 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   sole_frames_ = humanoid_.sole_frames;
   angles_.setZero(humanoid_.n_joints());
 
+  try {
+    terrain_ = contact::make_terrain(scene_.terrain.terrain);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("Terrain (Type = ") +
+                                to_string(scene_.terrain.terrain.type) + "): " + e.what());
+  }
+
   // Reference (on the robot without compliant ankles): the scene type's (scene_reference.h).
   walking::PostureParameters posture;
   posture.com_height = scene_.robot.com_height;
   posture.leg_ik = scene_.robot.leg_ik;
   SceneReference scene_reference =
       make_scene_reference({scene_, model_, humanoid_, reference_model_, reference_humanoid_,
-                            *foot_model_, *pads_, lift_, posture});
+                            *foot_model_, *pads_, *terrain_, lift_, posture});
   reference_ = std::move(scene_reference.reference);
   double duration = scene_reference.duration;
   const double initial_lift = scene_reference.initial_lift;
@@ -134,12 +141,6 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
   stepper_parameters.solver.sweep_skip = scene_.contact.sweep_skip;
   stepper_parameters.max_contacts = foot_model_->max_contacts() + pads_->max_contacts();
-  try {
-    terrain_ = contact::make_terrain(scene_.terrain.terrain);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("Terrain (Type = ") +
-                                to_string(scene_.terrain.terrain.type) + "): " + e.what());
-  }
   stepper_ = std::make_unique<multibody::Stepper>(model_, stepper_parameters, *terrain_);
   stepper_->set_gains(
       multibody::PdGains::Uniform(model_, scene_.control.stiffness, scene_.control.damping));
@@ -188,7 +189,9 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   v_ref_ = Eigen::VectorXd::Zero(model_.nv);
   q_ref_ = q_;
   reference_at(0.0, q_);
-  if (terrain_->level_height() != std::optional<double>(0.0)) {
+  const bool placed_on_terrain =
+      scene_.type == SceneType::walk && scene_.walking.placement == FootstepPlacement::terrain;
+  if (terrain_->level_height() != std::optional<double>(0.0) && !placed_on_terrain) {
     // The reference stands on z = 0: raise it onto the highest ground under the feet's
     // contact points at t = 0.
     multibody::forward_kinematics(model_, data_, q_);
@@ -295,6 +298,7 @@ void HumanoidSimulation::step() {
       const FootReport& r = foot_reports_[foot];
       ground_wrenches_[foot] << r.force, r.moment.y(), -r.moment.x(), 0.0;
     }
+    balance_->set_planned_ground(reference_.ground_at(t_next));
     balance_->update(q_, v_, acceleration_, ground_wrenches_, q_ref_);
     v_previous_ = v_;
   }

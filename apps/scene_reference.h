@@ -9,6 +9,7 @@
 #include "apps/foot_model.h"
 #include "apps/pad_set.h"
 #include "apps/scene.h"
+#include "contact/terrain.h"
 #include "multibody/model.h"
 #include "multibody/walking/humanoid.h"
 #include "multibody/walking/joint_reference.h"
@@ -34,8 +35,9 @@ struct SceneReferenceInputs {
   const multibody::Model& reference_model;     ///< the robot without the feet's joints
   const walking::Humanoid& reference_humanoid; ///< resolved on reference_model
   const FootModel& feet;
-  const PadSet& pads; ///< resolved on model
-  double lift = 0;    ///< m, what the feet add under the sole frames (FootModel::lift)
+  const PadSet& pads;              ///< resolved on model
+  const contact::Terrain& terrain; ///< the scene's ground
+  double lift = 0;                 ///< m, what the feet add under the sole frames (FootModel::lift)
   walking::PostureParameters posture; ///< CoM height and leg IK of the scene
 };
 

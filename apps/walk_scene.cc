@@ -1,4 +1,5 @@
 #include "apps/scene_reference.h"
+#include "multibody/walking/terrain_footsteps.h"
 
 namespace plantar::app {
 
@@ -9,6 +10,17 @@ SceneReference walk_scene_reference(const SceneReferenceInputs& in) {
   // The ZMP is on the ground, the feet's lift (a FEM sole's thickness) below the sole frames.
   walking::WalkingParameters lifted = in.scene.walking.walk;
   lifted.ground_clearance = in.lift;
+  if (in.scene.walking.placement == FootstepPlacement::terrain) {
+    // The sole rests on its contact points (a rigid foot's outline, a sole's nodes), or on a
+    // grid over its outline when they are many (the placement is O(n^4)).
+    const Eigen::Matrix3Xd& points = in.feet.contact_points();
+    const int samples = in.scene.walking.footprint_samples;
+    const walking::SolePoints sole =
+        points.cols() >= 3 && points.cols() <= samples * samples
+            ? walking::SolePoints(points.topRows<2>())
+            : walking::sole_grid(in.scene.sole.length, in.scene.sole.width, samples);
+    walking::place_walk_on_terrain(in.terrain, sole, lifted);
+  }
   SceneReference out;
   out.duration = in.scene.simulation.duration;
   out.reference = walking::make_walking_pattern(in.reference_model, in.reference_humanoid, lifted,

@@ -2,7 +2,8 @@
 # The robustness matrix of the six-step walk with the DCM stabilizer (issue 23) in one command:
 #   bench/robustness/run.sh [BUILD_DIR] [OUT_DIR] [JOBS]
 # Sweeps (plantar sweep, resumable): forms_dt_theta.prm (3 forms x 4 dt x 3 theta),
-# sole_material.prm (E x nu), the sole meshes of bench/impact_convergence/walk_mesh.prm; then
+# sole_material.prm (E x nu), the sole meshes of bench/impact_convergence/walk_mesh.prm, rough
+# ground planned on it (rough.prm) and an unplanned 2 cm step (unplanned_step.prm); then
 # OUT_DIR/tables.md by table.py (outcome and figures per case).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -14,10 +15,10 @@ cmake --build "$build" --target plantar -j2
 export PLANTAR_MESH_CACHE=${PLANTAR_MESH_CACHE:-$build/mesh-cache}
 mkdir -p "$out"
 for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
-  "$root/bench/impact_convergence/walk_mesh.prm"; do
+  "$root/bench/impact_convergence/walk_mesh.prm" "$here/rough.prm" "$here/unplanned_step.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
 done
 /usr/bin/python3 "$here/table.py" "$out/forms_dt_theta" "$out/sole_material" "$out/walk_mesh" \
-  >"$out/tables.md"
+  "$out/rough" "$out/unplanned_step" >"$out/tables.md"
 cat "$out/tables.md"

@@ -115,7 +115,9 @@ AnkleCompensationReport compensate_ankle_deflection(const multibody::Model& mode
     std::array<Eigen::Vector3d, 2> centre;
     for (int foot = 0; foot < 2; ++foot) {
       centre[foot] = soles[k][foot].translation();
-      support[foot] = centre[foot].z() < 1e-6;
+      // On the ground when at its planned ground height (0 on flat references).
+      const double ground = reference.ground.rows() > k ? reference.ground(k, foot) : 0.0;
+      support[foot] = centre[foot].z() - ground < 1e-6;
       centre[foot].z() = 0.0;
     }
     std::array<double, 2> share = {1.0, 0.0};

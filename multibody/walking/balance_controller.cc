@@ -30,8 +30,8 @@ BalanceController::BalanceController(const multibody::Model& model, const Humano
     : model_(model), humanoid_(humanoid), parameters_(parameters), dt_(dt), stabilize_(stabilize),
       sensors_(model, parameters.sensors),
       estimator_(model, humanoid, parameters.sensors.imu_frame, parameters.estimator, dt),
-      stabilizer_(parameters.stabilizer), reference_data_(model), true_data_(model),
-      jacobian_(6, model.nv) {
+      stabilizer_(parameters.stabilizer), touchdown_(parameters.touchdown), reference_data_(model),
+      true_data_(model), jacobian_(6, model.nv) {
   if (!(parameters.zmp_time_constant > 0 && parameters.contact_height > 0))
     throw std::invalid_argument("BalanceController: ZMP time constant and contact height > 0");
   for (int foot = 0; foot < 2; ++foot) {
@@ -77,8 +77,10 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     soles[foot] = sole.translation;
     feet_[foot].position = sole.translation;
     feet_[foot].rotation = sole.rotation;
-    if (first_)
+    if (first_) {
       ground_height_[foot] = sole.translation.z();
+      planned_ground0_[foot] = planned_ground_[foot];
+    }
   }
 
   // Sensors.
@@ -86,14 +88,23 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
   const multibody::sensors::SensorReadings& readings =
       sensors_.measure(true_data_, q, ground_wrenches);
   std::array<double, 2> normal{};
+  Eigen::Vector2d clearance, normal_force;
   for (int foot = 0; foot < 2; ++foot) {
     const multibody::Vector6d at_sole =
         sensor_in_sole_[foot].act_force(readings.foot_wrenches[foot]);
     feet_[foot].force = at_sole.head<3>();
     feet_[foot].moment = at_sole.tail<3>();
-    normal[foot] = at_sole[2];
-    feet_[foot].contact = soles[foot].z() - ground_height_[foot] < parameters_.contact_height &&
-                          normal[foot] > parameters_.stabilizer.min_contact_force;
+    normal[foot] = normal_force[foot] = at_sole[2];
+    const double ground = ground_height_[foot] + planned_ground_[foot] - planned_ground0_[foot];
+    clearance[foot] = soles[foot].z() - ground;
+  }
+  const Eigen::Vector2d& dz = touchdown_.update(clearance, normal_force, dt_);
+  for (int foot = 0; foot < 2; ++foot) {
+    feet_[foot].contact =
+        clearance[foot] + dz[foot] - touchdown_.levels()[foot] < parameters_.contact_height &&
+        normal[foot] > parameters_.stabilizer.min_contact_force;
+    soles[foot].z() += dz[foot];
+    feet_[foot].position.z() += dz[foot];
   }
 
   // Estimate (and the truth, for the statistics).
@@ -125,7 +136,7 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     for (int j = 0; j < 6; ++j)
       leg_jacobian_.col(j) = jacobian_.col(model_.idx_v[humanoid_.leg_joints[foot][j]]);
     multibody::Vector6d motion;
-    motion.head<3>() << 0, 0, o.height;
+    motion.head<3>() << 0, 0, o.height + dz[foot];
     motion.tail<3>() = feet_[foot].rotation * Eigen::Vector3d(o.roll, o.pitch, 0);
     leg_lu_.compute(leg_jacobian_);
     const multibody::Vector6d dq = leg_lu_.solve(motion);

@@ -7,10 +7,14 @@
 //   p_ref = xi_ref - xi_ref' / omega, low-passed with time constant T_p (the finite
 //   difference of an interpolated reference is rough).
 // A foot is in contact when its reference sole is within contact_height of its height at
-// t = 0 and its F/T sensor reads more than the stabilizer's min_contact_force.
+// t = 0 plus the change of its planned ground height (set_planned_ground; 0 on flat ground) and
+// its F/T sensor reads more than the stabilizer's min_contact_force.
+// With touchdown adaptation on, each foot's height offset dz (touchdown_adaptation.h) moves its
+// reference sole (the contact test, the estimator's anchors and the leg offsets below).
 // Foot offsets become joint references through each leg's Jacobian at q_ref (sole frame,
-// world-aligned axes, the leg's 6 joints): dq_leg = J_leg^-1 [0, 0, dz, R_sole (roll, pitch,
-// 0)], added to q_ref's leg joints. Allocates nothing after construction.
+// world-aligned axes, the leg's 6 joints): dq_leg = J_leg^-1 [0, 0, z, R_sole (roll, pitch,
+// 0)], z the force difference offset plus dz, added to q_ref's leg joints. Allocates nothing after
+// construction.
 
 #include "multibody/data.h"
 #include "multibody/model.h"
@@ -19,6 +23,7 @@
 #include "multibody/walking/com_estimator.h"
 #include "multibody/walking/dcm_stabilizer.h"
 #include "multibody/walking/humanoid.h"
+#include "multibody/walking/touchdown_adaptation.h"
 
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -40,6 +45,8 @@ struct BalanceParameters {
   DcmStabilizerParameters stabilizer; ///< its omega is set from the reference's CoM height
   double zmp_time_constant = 0.02;    ///< T_p, s, > 0
   double contact_height = 0.002;      ///< m, > 0
+  /// Early and late touchdowns (touchdown_adaptation.h).
+  TouchdownParameters touchdown;
 };
 
 /// Running figures of the loop (for summaries and tests).
@@ -64,9 +71,13 @@ public:
               const Eigen::Ref<const Eigen::VectorXd>& a,
               const std::array<multibody::Vector6d, 2>& ground_wrenches,
               Eigen::Ref<Eigen::VectorXd> q_ref);
+  /// The planned ground height under each sole (right, left) [m] for the next update
+  /// (JointReference::ground_at); its change since the first update shifts the contact test.
+  void set_planned_ground(const Eigen::Vector2d& heights) { planned_ground_ = heights; }
   const BalanceStatistics& statistics() const { return statistics_; }
   const ComEstimator& estimator() const { return estimator_; }
   const DcmStabilizer& stabilizer() const { return stabilizer_; }
+  const TouchdownAdaptation& touchdown() const { return touchdown_; }
   double omega() const { return omega_; }
   const Eigen::Vector2d& reference_dcm() const { return dcm_ref_; } ///< xi_ref (x, y), m
   const Eigen::Vector2d& reference_zmp() const { return zmp_ref_; } ///< p_ref (filtered), m
@@ -80,9 +91,12 @@ private:
   multibody::sensors::RobotSensors sensors_;
   ComEstimator estimator_;
   DcmStabilizer stabilizer_;
+  TouchdownAdaptation touchdown_;
   multibody::Data reference_data_, true_data_;
   std::array<multibody::SE3, 2> sensor_in_sole_; ///< F/T sensor frame -> sole frame
   std::array<double, 2> ground_height_{};
+  Eigen::Vector2d planned_ground_ = Eigen::Vector2d::Zero(),
+                  planned_ground0_ = Eigen::Vector2d::Zero();
   bool first_ = true;
   Eigen::Vector3d com_ref_ = Eigen::Vector3d::Zero();
   Eigen::Vector2d dcm_ref_ = Eigen::Vector2d::Zero(), zmp_ref_ = Eigen::Vector2d::Zero();

@@ -1,5 +1,7 @@
 #include "multibody/walking/footstep_plan.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -48,9 +50,11 @@ void check_walking_parameters(const WalkingParameters& p) {
   Footstep right = p.initial_right, left = p.initial_left;
   for (size_t i = 0; i < p.footsteps.size(); ++i) {
     const Footstep& f = p.footsteps[i];
-    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.yaw))
+    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.yaw) ||
+        !std::isfinite(f.z) || !(std::abs(f.roll) < 0.5 * M_PI) ||
+        !(std::abs(f.pitch) < 0.5 * M_PI))
       throw std::invalid_argument("WalkingParameters.footsteps[" + std::to_string(i) +
-                                  "] is not finite");
+                                  "] is not finite or tilted by pi/2 or more");
     Footstep& swing = (i % 2 == 0) == p.right_foot_first ? right : left;
     const double length = std::hypot(f.x - swing.x, f.y - swing.y);
     if (length > p.max_step_length) {
@@ -61,6 +65,15 @@ void check_walking_parameters(const WalkingParameters& p) {
     }
     swing = f;
   }
+}
+
+Eigen::Matrix3d footstep_rotation(double yaw, double pitch, double roll) {
+  const Eigen::Matrix3d heading =
+      Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  if (pitch == 0.0 && roll == 0.0)
+    return heading; // level ground: the same bits as before tilts existed
+  return heading * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+         Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()).toRotationMatrix();
 }
 
 Eigen::Vector3d quintic_transition(double tau) {
@@ -115,6 +128,9 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
   plan.left_sole.resize(n, 3);
   plan.right_yaw.resize(n);
   plan.left_yaw.resize(n);
+  plan.right_tilt.resize(n, 2);
+  plan.left_tilt.resize(n, 2);
+  plan.ground.resize(n, 2);
   plan.phase.assign(n, SupportPhase::double_support);
 
   // Event list: each step i: single support [ss_start_i, ss_start_i + Tss], then double
@@ -125,13 +141,18 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
     ss_start[i] = t;
     t += p.single_support_time + p.double_support_time;
   }
+  // Stores sample k: a foot at rest on its placement f, or (swing) the placement and motion.
+  auto store = [&plan](int k, int foot, const Footstep& f, double z, double ground) {
+    Eigen::MatrixX3d& sole = foot == 0 ? plan.right_sole : plan.left_sole;
+    sole.row(k) << f.x, f.y, z;
+    (foot == 0 ? plan.right_yaw : plan.left_yaw)(k) = f.yaw;
+    (foot == 0 ? plan.right_tilt : plan.left_tilt).row(k) << f.roll, f.pitch;
+    plan.ground(k, foot) = ground;
+  };
   for (int k = 0; k < n; ++k) {
     const double time = k * T;
     plan.time(k) = time;
     Footstep right = p.initial_right, left = p.initial_left;
-    Eigen::Vector3d right_pos(right.x, right.y, 0.0), left_pos(left.x, left.y, 0.0);
-    double right_yaw = right.yaw, left_yaw = left.yaw;
-    // Support sole centres before (from) and after (to) the current ZMP transfer.
     Eigen::Vector2d zmp;
     bool done = false;
     Eigen::Vector2d previous_support =
@@ -154,30 +175,18 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
       if (time < ss_end) { // single support: swing foot in the air
         const double tau = (time - ss_start[i]) / p.single_support_time;
         const double s = quintic_transition(tau)(0);
-        const double h = swing_foot_height(p, tau)(0);
-        Eigen::Vector3d pos(swing.x + s * (target.x - swing.x), swing.y + s * (target.y - swing.y),
-                            h);
-        const double yaw = swing.yaw + s * std::remainder(target.yaw - swing.yaw, 2 * M_PI);
-        if (right_swings) {
-          right_pos = pos;
-          right_yaw = yaw;
-          left_pos = Eigen::Vector3d(left.x, left.y, 0.0);
-          left_yaw = left.yaw;
-          plan.phase[k] = SupportPhase::left_support;
-        } else {
-          left_pos = pos;
-          left_yaw = yaw;
-          right_pos = Eigen::Vector3d(right.x, right.y, 0.0);
-          right_yaw = right.yaw;
-          plan.phase[k] = SupportPhase::right_support;
-        }
-        zmp = support_centre;
+        Footstep moving;
+        moving.x = swing.x + s * (target.x - swing.x);
+        moving.y = swing.y + s * (target.y - swing.y);
+        moving.yaw = swing.yaw + s * std::remainder(target.yaw - swing.yaw, 2 * M_PI);
+        moving.roll = swing.roll + s * (target.roll - swing.roll);
+        moving.pitch = swing.pitch + s * (target.pitch - swing.pitch);
+        const double ground = swing.z + s * (target.z - swing.z);
+        store(k, right_swings ? 0 : 1, moving, ground + swing_foot_height(p, tau)(0), ground);
+        store(k, right_swings ? 1 : 0, support, support.z, support.z);
+        plan.phase[k] = right_swings ? SupportPhase::left_support : SupportPhase::right_support;
+        plan.zmp_reference.row(k) = support_centre.transpose();
         done = true;
-        plan.right_sole.row(k) = right_pos.transpose();
-        plan.left_sole.row(k) = left_pos.transpose();
-        plan.right_yaw(k) = right_yaw;
-        plan.left_yaw(k) = left_yaw;
-        plan.zmp_reference.row(k) = zmp.transpose();
         break;
       }
       swing = target; // landed
@@ -185,8 +194,6 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
     }
     if (done && plan.phase[k] != SupportPhase::double_support)
       continue;
-    right_pos = Eigen::Vector3d(right.x, right.y, 0.0);
-    left_pos = Eigen::Vector3d(left.x, left.y, 0.0);
     if (!done) { // after the last step: final double support back to the feet centre
       const Eigen::Vector2d centre = 0.5 * Eigen::Vector2d(right.x + left.x, right.y + left.y);
       const double start = n_steps > 0 ? ss_start[n_steps - 1] + p.single_support_time
@@ -196,10 +203,8 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
       if (n_steps == 0)
         zmp = centre;
     }
-    plan.right_sole.row(k) = right_pos.transpose();
-    plan.left_sole.row(k) = left_pos.transpose();
-    plan.right_yaw(k) = right.yaw;
-    plan.left_yaw(k) = left.yaw;
+    store(k, 0, right, right.z, right.z);
+    store(k, 1, left, left.z, left.z);
     plan.zmp_reference.row(k) = zmp.transpose();
   }
   return plan;

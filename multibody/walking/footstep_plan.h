@@ -6,12 +6,20 @@
 
 namespace plantar::walking {
 
-/// A foot placement on flat ground: centre of the sole's bottom face (r_sole / l_sole frame).
+/// A foot placement: centre of the sole's bottom face (r_sole / l_sole frame). On flat ground
+/// z, roll and pitch are 0; on a terrain (terrain_footsteps.h) the sole rests on the plane
+/// they give. The sole's orientation is R = R_z(yaw) R_y(pitch) R_x(roll).
 struct Footstep {
-  double x = 0.0;   ///< [m]
-  double y = 0.0;   ///< [m]
-  double yaw = 0.0; ///< [rad], (-pi, pi]
+  double x = 0.0;     ///< [m]
+  double y = 0.0;     ///< [m]
+  double yaw = 0.0;   ///< [rad], (-pi, pi]
+  double z = 0.0;     ///< height of the sole centre [m]
+  double roll = 0.0;  ///< about the sole's x axis [rad], |.| < pi/2
+  double pitch = 0.0; ///< about the yawed y axis [rad], |.| < pi/2
 };
+
+/// The sole's orientation R_z(yaw) R_y(pitch) R_x(roll) (world <- sole).
+Eigen::Matrix3d footstep_rotation(double yaw, double pitch, double roll);
 
 /// The walk. Defaults: the paper's walk (David et al. 2008, sec. IV): six steps in six seconds,
 /// peak forward speed of the reference point (the waist) about 0.3 m/s, steps no longer than
@@ -66,7 +74,11 @@ struct FootstepPlan {
                                   ///< between the two sole centres in double support
   Eigen::MatrixX3d right_sole;    ///< (x, y, z) of r_sole [m]
   Eigen::MatrixX3d left_sole;     ///< (x, y, z) of l_sole [m]
-  Eigen::VectorXd right_yaw, left_yaw; ///< [rad]
+  Eigen::VectorXd right_yaw, left_yaw;    ///< [rad]
+  Eigen::MatrixX2d right_tilt, left_tilt; ///< (roll, pitch) of each sole [rad]
+  /// Planned ground height under each sole (right, left) [m]: the placement's z while the foot
+  /// is down; during a swing z_from + (z_to - z_from) s(tau) (the line the swing rides on).
+  Eigen::MatrixX2d ground;
   std::vector<SupportPhase> phase;
   double walk_start = 0.0, walk_end = 0.0; ///< start and end of the walk proper [s]
 };
@@ -95,10 +107,12 @@ Eigen::Vector3d touchdown_profile(double tau);
 Eigen::Vector3d swing_foot_height(const WalkingParameters& params, double tau);
 
 /// Samples the plan: ZMP reference and both sole trajectories. The swing sole moves
-/// horizontally (and in yaw) by quintic_transition and vertically by swing_foot_height over
-/// the single-support time. From the planned touchdown on, the sole's reference stays at z = 0:
-/// the ground decides the real touchdown; a foot still in the air (a late touchdown) is driven
-/// down only by the joint PD tracking that reference.
+/// horizontally (and in yaw, roll, pitch and the placements' height difference) by
+/// quintic_transition s(tau) and vertically, in addition, by swing_foot_height over the
+/// single-support time: z(tau) = z_from + (z_to - z_from) s(tau) + swing_foot_height(tau). From the
+/// planned touchdown on, the sole's reference stays at z = 0: the ground decides the real
+/// touchdown; a foot still in the air (a late touchdown) is driven down only by the joint PD
+/// tracking that reference. (z = 0 is the placement's height.)
 FootstepPlan make_footstep_plan(const WalkingParameters& params);
 
 } // namespace plantar::walking

@@ -50,6 +50,18 @@ void JointReference::resize(int n, double sample_period, const std::vector<std::
   base_position.resize(n, 3);
   base_orientation.resize(n, 4);
   com.resize(n, 3);
+  ground.setZero(n, 2);
+}
+
+Eigen::Vector2d JointReference::ground_at(double t) const {
+  const int n = static_cast<int>(ground.rows());
+  if (n == 0)
+    return Eigen::Vector2d::Zero();
+  t = std::clamp(t, 0.0, duration());
+  const int k = std::min(static_cast<int>(std::floor(t / period)), n - 1);
+  const int k1 = std::min(k + 1, n - 1);
+  const double w = k1 == k ? 0.0 : std::clamp((t - time(k)) / period, 0.0, 1.0);
+  return ((1 - w) * ground.row(k) + w * ground.row(k1)).transpose();
 }
 
 void JointReference::set(int k, const Eigen::Isometry3d& base,

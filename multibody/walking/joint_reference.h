@@ -19,6 +19,9 @@ struct JointReference {
   Eigen::MatrixX3d base_position;       ///< n x 3, base origin [m]
   Eigen::MatrixX4d base_orientation;    ///< n x 4, base quaternion (w, x, y, z)
   Eigen::MatrixX3d com;                 ///< n x 3, CoM of the reference [m]
+  /// n x 2, planned ground height under the right and left soles [m] (FootstepPlan::ground;
+  /// zeros for references planned on flat ground).
+  Eigen::MatrixX2d ground;
   int n_samples() const { return static_cast<int>(time.size()); }
   double duration() const { return time.size() ? time(time.size() - 1) : 0.0; }
   /// Reference at any time t (for a simulation dt finer than the period): q and the base
@@ -28,8 +31,10 @@ struct JointReference {
   /// for quadratics. Base orientation by slerp. t is clamped to [0, duration]. No heap allocation.
   /// @param q_out  size joint_names.size().
   void sample(double t, Eigen::Ref<Eigen::VectorXd> q_out, Eigen::Isometry3d& base_out) const;
+  /// Planned ground heights (right, left) at t [m], linear between samples, t clamped.
+  Eigen::Vector2d ground_at(double t) const;
   /// Resizes every array for n samples at `sample_period` (time filled with k period) and
-  /// the joints @p names.
+  /// the joints @p names; ground is set to zero.
   void resize(int n, double sample_period, const std::vector<std::string>& names);
   /// Stores sample k: base pose, joint angles and CoM.
   void set(int k, const Eigen::Isometry3d& base, const Eigen::Ref<const Eigen::VectorXd>& angles,

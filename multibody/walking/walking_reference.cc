@@ -13,11 +13,16 @@
 namespace plantar::walking {
 namespace {
 
-Eigen::Isometry3d sole_pose(const Eigen::Vector3d& position, double yaw) {
+Eigen::Isometry3d sole_pose(const Eigen::Vector3d& position, double yaw, double roll = 0.0,
+                            double pitch = 0.0) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = position;
-  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.linear() = footstep_rotation(yaw, pitch, roll);
   return pose;
+}
+
+Eigen::Isometry3d sole_pose(const Footstep& f) {
+  return sole_pose({f.x, f.y, f.z}, f.yaw, f.roll, f.pitch);
 }
 
 /// Whole-body posture solver shared by the three references.
@@ -96,7 +101,8 @@ public:
     throw std::runtime_error(msg.str());
   }
 
-  /// Standing base pose: base over the feet centre, height such that CoM z = com_height.
+  /// Standing base pose: base over the feet centre, height such that CoM z = com_height above
+  /// the mean height of the two placements.
   Eigen::Isometry3d standing_base(const Footstep& right, const Footstep& left, Eigen::VectorXd& q,
                                   Eigen::Vector3d& com) {
     Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
@@ -104,12 +110,12 @@ public:
     base.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     // First guess: the base as far above the CoM target as it is above the posture's CoM.
     const double com_above_base = centre_of_mass(base, humanoid_.posture).z();
+    const double ground = 0.5 * (right.z + left.z);
     base.translation() = Eigen::Vector3d(0.5 * (right.x + left.x), 0.5 * (right.y + left.y),
-                                         posture_.com_height - com_above_base);
+                                         ground + posture_.com_height - com_above_base);
     const Eigen::Vector3d target(base.translation().x(), base.translation().y(),
-                                 posture_.com_height);
-    com = place_base(base, target, true, sole_pose({right.x, right.y, 0.0}, right.yaw),
-                     sole_pose({left.x, left.y, 0.0}, left.yaw), 0.0, q);
+                                 ground + posture_.com_height);
+    com = place_base(base, target, true, sole_pose(right), sole_pose(left), 0.0, q);
     return base;
   }
 
@@ -153,16 +159,21 @@ WalkingPattern make_walking_pattern(const multibody::Model& model, const Humanoi
 
   JointReference& ref = pattern.reference;
   ref.resize(n, walk.period, humanoid.joint_names);
+  ref.ground = plan.ground;
   Eigen::Isometry3d base = base0;
+  const double ground0 = plan.ground.row(0).mean();
   for (int k = 0; k < n; ++k) {
     const double time = plan.time(k);
     const double yaw =
         plan.right_yaw(k) + 0.5 * std::remainder(plan.left_yaw(k) - plan.right_yaw(k), 2.0 * M_PI);
     base.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    // The waist follows the mean planned ground height of the two soles (0 on flat ground).
+    base.translation().z() = base0.translation().z() + plan.ground.row(k).mean() - ground0;
     const Eigen::Vector3d target(pattern.com_x(k, 0), pattern.com_y(k, 0), 0.0);
-    const Eigen::Isometry3d right =
-        sole_pose(plan.right_sole.row(k).transpose(), plan.right_yaw(k));
-    const Eigen::Isometry3d left = sole_pose(plan.left_sole.row(k).transpose(), plan.left_yaw(k));
+    const Eigen::Isometry3d right = sole_pose(plan.right_sole.row(k).transpose(), plan.right_yaw(k),
+                                              plan.right_tilt(k, 0), plan.right_tilt(k, 1));
+    const Eigen::Isometry3d left = sole_pose(plan.left_sole.row(k).transpose(), plan.left_yaw(k),
+                                             plan.left_tilt(k, 0), plan.left_tilt(k, 1));
     const Eigen::Vector3d com = solver.place_base(base, target, false, right, left, time, q);
     ref.set(k, base, q, com);
   }

@@ -38,7 +38,8 @@ struct WalkingPattern {
 /// Generates the walk: ZMP reference from the footstep plan -> CoM (x, y) by preview control
 /// (preview.com_height is overwritten with posture.com_height + walk.ground_clearance) -> waist
 /// placed so that the whole-body CoM of the URDF model equals the CoM reference (fixed-point
-/// iteration), waist height constant, waist yaw the mean of the sole yaws -> legs by the
+/// iteration), waist height constant above the mean planned ground height of the two soles
+/// (constant on flat ground), waist yaw the mean of the sole yaws -> legs by the
 /// leg inverse kinematics (LegSolver). @p model: the robot without compliant ankles, free base;
 /// @p humanoid resolved on it.
 /// @throws std::runtime_error if a leg pose is out of reach or outside its joint limits (naming

@@ -1,0 +1,120 @@
+#include "multibody/walking/terrain_footsteps.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace plantar::walking {
+
+SolePoints sole_grid(double length, double width, int m) {
+  if (!(length > 0) || !(width > 0) || m < 2)
+    throw std::invalid_argument("sole_grid: length = " + std::to_string(length) +
+                                " m and width = " + std::to_string(width) +
+                                " m must be > 0, m = " + std::to_string(m) + " >= 2");
+  SolePoints points(2, m * m);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j)
+      points.col(i * m + j) << length * (double(i) / (m - 1) - 0.5),
+          width * (double(j) / (m - 1) - 0.5);
+  return points;
+}
+
+namespace {
+
+/// The lowest plane (a, b, c) at the centre, z = a + b x + c y, with h_i <= z(xy_i) for every
+/// point: over the triples of points whose triangle holds the centre (0, 0). a = inf if none.
+Eigen::Vector3d upper_facet(const SolePoints& xy, const Eigen::VectorXd& h) {
+  const int n = static_cast<int>(xy.cols());
+  const double scale = xy.cwiseAbs().maxCoeff();
+  const double area_tolerance = 1e-12 * scale * scale;
+  const double height_tolerance = 1e-12 * std::max(1.0, h.cwiseAbs().maxCoeff());
+  Eigen::Vector3d best(std::numeric_limits<double>::infinity(), 0, 0);
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j)
+      for (int k = j + 1; k < n; ++k) {
+        const Eigen::Vector2d a = xy.col(i), b = xy.col(j), c = xy.col(k);
+        const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+        if (std::abs(area) < area_tolerance)
+          continue;
+        // Barycentric coordinates of the centre (0, 0).
+        const double l1 = (b.x() * c.y() - c.x() * b.y()) / area;
+        const double l2 = (c.x() * a.y() - a.x() * c.y()) / area;
+        const double l3 = 1.0 - l1 - l2;
+        if (l1 < -1e-12 || l2 < -1e-12 || l3 < -1e-12)
+          continue;
+        const double centre = l1 * h[i] + l2 * h[j] + l3 * h[k];
+        if (centre >= best[0])
+          continue;
+        Eigen::Matrix2d d;
+        d << (b - a).x(), (b - a).y(), (c - a).x(), (c - a).y();
+        const Eigen::Vector2d slope = d.inverse() * Eigen::Vector2d(h[j] - h[i], h[k] - h[i]);
+        bool above = true;
+        for (int m = 0; m < n && above; ++m)
+          above = h[m] <= centre + slope.dot(xy.col(m)) + height_tolerance;
+        if (above)
+          best << centre, slope.x(), slope.y();
+      }
+  return best;
+}
+
+} // namespace
+
+Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
+                          const SolePoints& points) {
+  const int n = static_cast<int>(points.cols());
+  if (n < 3)
+    throw std::invalid_argument("place_on_terrain: " + std::to_string(n) +
+                                " sole points, at least 3 needed");
+  const Eigen::Matrix2d yaw = Eigen::Rotation2Dd(step.yaw).toRotationMatrix();
+  Footstep placed = step;
+  SolePoints xy = points; // the points' horizontal positions in the yawed frame
+  Eigen::VectorXd h(n);
+  // Fixed point in the tilt: the tilted sole's points move horizontally by O(tilt^2).
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector2d w = Eigen::Vector2d(step.x, step.y) + yaw * xy.col(i);
+      h[i] = terrain.height(w.x(), w.y());
+    }
+    const Eigen::Vector3d facet = upper_facet(xy, h);
+    if (!std::isfinite(facet[0]))
+      throw std::invalid_argument("place_on_terrain: the sole centre is not inside the convex "
+                                  "hull of its points");
+    const double norm = std::sqrt(1.0 + facet[1] * facet[1] + facet[2] * facet[2]);
+    const double pitch = -std::atan(facet[1]), roll = std::asin(facet[2] / norm);
+    const bool converged =
+        iteration > 0 && std::abs(pitch - placed.pitch) + std::abs(roll - placed.roll) < 1e-14;
+    placed.pitch = pitch;
+    placed.roll = roll;
+    placed.z = facet[0];
+    if (converged)
+      break;
+    const Eigen::Matrix3d tilt = footstep_rotation(0.0, pitch, roll);
+    for (int i = 0; i < n; ++i)
+      xy.col(i) = (tilt * Eigen::Vector3d(points(0, i), points(1, i), 0.0)).head<2>();
+  }
+  // The tilted points: move the plane so that the lowest is on the ground (the iteration's
+  // last change, round-off).
+  const Eigen::Matrix3d rotation = footstep_rotation(placed.yaw, placed.pitch, placed.roll);
+  double penetration = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d point = Eigen::Vector3d(placed.x, placed.y, placed.z) +
+                                  rotation * Eigen::Vector3d(points(0, i), points(1, i), 0.0);
+    penetration = std::max(penetration, terrain.height(point.x(), point.y()) - point.z());
+  }
+  placed.z += penetration;
+  return placed;
+}
+
+void place_walk_on_terrain(const contact::Terrain& terrain, const SolePoints& points,
+                           WalkingParameters& walk) {
+  walk.initial_right = place_on_terrain(terrain, walk.initial_right, points);
+  walk.initial_left = place_on_terrain(terrain, walk.initial_left, points);
+  for (Footstep& step : walk.footsteps)
+    step = place_on_terrain(terrain, step, points);
+}
+
+} // namespace plantar::walking
