@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <vector>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -45,12 +46,23 @@ TEST(Cli, Help) {
   EXPECT_EQ(run("plot").status, 2);
 }
 
-/// The default scene is the walking comparison: scenes/walk.prm's parameters, all three forms.
+/// The default scene is the walking comparison: scenes/walk.prm's parameters in the well-posed
+/// setting (stabilizer, touchdowns at 0.1 m/s, dt 0.5 ms, theta 1/2), all three forms.
 TEST(Cli, DefaultSceneIsTheWalkComparisonOfWalkPrm) {
   dealii::ParameterHandler default_prm, walk_prm;
   const auto source = std::string(PLANTAR_SOURCE_DIR) + "/scenes/";
   const auto comparison = plantar::app::load_scene(source + "default.prm", default_prm);
   plantar::app::load_scene(source + "walk.prm", walk_prm);
+  const std::vector<std::array<const char*, 3>> well_posed{
+      {"Control", "Stabilizer", "dcm"},
+      {"Walking", "Touchdown velocity", "0.1"},
+      {"Simulation", "Time step", "0.0005"},
+      {"Simulation", "Theta", "0.5"}};
+  for (const auto& [section, entry, value] : well_posed) {
+    walk_prm.enter_subsection(section);
+    walk_prm.set(entry, value);
+    walk_prm.leave_subsection();
+  }
   ASSERT_EQ(comparison.robot.foot_forms.size(), 3u);
   EXPECT_EQ(comparison.type, plantar::app::SceneType::walk);
   default_prm.enter_subsection("Robot");
@@ -59,7 +71,8 @@ TEST(Cli, DefaultSceneIsTheWalkComparisonOfWalkPrm) {
   std::ostringstream a, b;
   default_prm.print_parameters(a, dealii::ParameterHandler::PRM);
   walk_prm.print_parameters(b, dealii::ParameterHandler::PRM);
-  EXPECT_EQ(a.str(), b.str()) << "scenes/default.prm must keep scenes/walk.prm's values";
+  EXPECT_EQ(a.str(), b.str())
+      << "scenes/default.prm must keep scenes/walk.prm's values but the well-posed setting";
 }
 
 /// PNG files: signature and a non-trivial size.
