@@ -8,13 +8,13 @@
 #include <gtest/gtest.h>
 
 #include <array>
-#include <vector>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
+#include <vector>
 
 namespace {
 
@@ -53,11 +53,10 @@ TEST(Cli, DefaultSceneIsTheWalkComparisonOfWalkPrm) {
   const auto source = std::string(PLANTAR_SOURCE_DIR) + "/scenes/";
   const auto comparison = plantar::app::load_scene(source + "default.prm", default_prm);
   plantar::app::load_scene(source + "walk.prm", walk_prm);
-  const std::vector<std::array<const char*, 3>> well_posed{
-      {"Control", "Stabilizer", "dcm"},
-      {"Walking", "Touchdown velocity", "0.1"},
-      {"Simulation", "Time step", "0.0005"},
-      {"Simulation", "Theta", "0.5"}};
+  const std::vector<std::array<const char*, 3>> well_posed{{"Control", "Stabilizer", "dcm"},
+                                                           {"Walking", "Touchdown velocity", "0.1"},
+                                                           {"Simulation", "Time step", "0.0005"},
+                                                           {"Simulation", "Theta", "0.5"}};
   for (const auto& [section, entry, value] : well_posed) {
     walk_prm.enter_subsection(section);
     walk_prm.set(entry, value);
