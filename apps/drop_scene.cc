@@ -32,13 +32,16 @@ SceneReference drop_scene_reference(const SceneReferenceInputs& in) {
   humanoid.to_configuration(in.model, angles, q0);
   multibody::Data data(in.model);
   multibody::forward_kinematics(in.model, data, q0);
-  double lowest = in.pads.lowest_point(data);
+  // The least height above the ground over the feet's and the pads' contact points.
+  double lowest = in.pads.lowest_point(data, in.terrain);
   for (int foot = 0; foot < 2; ++foot) {
     const multibody::SE3 sole =
         multibody::frame_placement(in.model, data, humanoid.sole_frames[foot]);
     const Eigen::Matrix3Xd& points = in.feet.contact_points();
-    for (Eigen::Index k = 0; k < points.cols(); ++k)
-      lowest = std::min(lowest, sole.act_point(points.col(k)).z());
+    for (Eigen::Index k = 0; k < points.cols(); ++k) {
+      const Eigen::Vector3d p = sole.act_point(points.col(k));
+      lowest = std::min(lowest, p.z() - in.terrain.height(p.x(), p.y()));
+    }
   }
   Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
   base.translation() << 0, 0, -lowest - in.lift; // the feet's lift is added back by the loop

@@ -189,8 +189,10 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   v_ref_ = Eigen::VectorXd::Zero(model_.nv);
   q_ref_ = q_;
   reference_at(0.0, q_);
+  // The drop (feet and pads) and a walk placed on the terrain stand on it already.
   const bool placed_on_terrain =
-      scene_.type == SceneType::walk && scene_.walking.placement == FootstepPlacement::terrain;
+      scene_.type == SceneType::drop ||
+      (scene_.type == SceneType::walk && scene_.walking.placement == FootstepPlacement::terrain);
   if (terrain_->level_height() != std::optional<double>(0.0) && !placed_on_terrain) {
     // The reference stands on z = 0: raise it onto the highest ground under the feet's
     // contact points at t = 0.

@@ -113,11 +113,13 @@ void PadSet::resolve(const multibody::Model& model) {
   }
 }
 
-double PadSet::lowest_point(const multibody::Data& data) const {
+double PadSet::lowest_point(const multibody::Data& data, const contact::Terrain& terrain) const {
   double lowest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < size(); ++i)
-    for (Eigen::Index k = 0; k < body_nodes_[i].cols(); ++k)
-      lowest = std::min(lowest, data.oMi[bodies_[i]].act_point(body_nodes_[i].col(k)).z());
+    for (Eigen::Index k = 0; k < body_nodes_[i].cols(); ++k) {
+      const Eigen::Vector3d p = data.oMi[bodies_[i]].act_point(body_nodes_[i].col(k));
+      lowest = std::min(lowest, p.z() - terrain.height(p.x(), p.y()));
+    }
   return lowest;
 }
 

@@ -60,9 +60,9 @@ public:
   /// joints). Throws std::invalid_argument "Pad <name>/Link = '<link>': ..." for an unknown
   /// link or the world. Before lowest_point() and attach().
   void resolve(const multibody::Model& model);
-  /// The lowest undeformed contact node over all pads (world z, m) at the kinematics @p data;
-  /// +infinity without pads.
-  double lowest_point(const multibody::Data& data) const;
+  /// The lowest undeformed contact node over all pads at the kinematics @p data: the least
+  /// height above @p terrain, min_k (z_k - h(x_k, y_k)) (m); +infinity without pads.
+  double lowest_point(const multibody::Data& data, const contact::Terrain& terrain) const;
   /// Adds each pad as a deformable patch of @p stepper (which must outlive this set).
   void attach(multibody::Stepper& stepper);
 

@@ -1,7 +1,8 @@
 // The humanoid scenes on a terrain (subsection Terrain, docs/terrain.md, issue 23): the scene
 // errors name the entry or the grid file's line and column; the robot starts on the ground (its
 // reference raised by the highest ground under its feet) and stands on sinusoidal bumps; the
-// ParaView terrain.vts holds the surface (every point at h(x, y), unit normals) and scene.pvd
+// kneeling drop is released above the ground under its pads; the ParaView terrain.vts holds the
+// surface (every point at h(x, y), unit normals) and scene.pvd
 // shows it at every frame; the time loop allocates nothing on a rough ground, per foot form.
 #include "apps/humanoid_simulation.h"
 #include "apps/scene_vtk_writer.h"
@@ -124,6 +125,48 @@ TEST(TerrainScenes, RobotStandsOnBumpsAndParaViewShowsTheTerrain) {
   EXPECT_LT(worst_height, 1e-9);
   EXPECT_LT(worst_normal, 1e-8);
   EXPECT_EQ(n_terrain, 2);
+}
+
+// The kneeling drop on a 4 deg slope falling towards +x: at t = 0 the point nearest the ground,
+// over the feet's contact points and the knee pads' contact nodes, is Simulation/Release height
+// (0.02 m) above the ground under it (before, the pads were measured from z = 0 and the robot
+// raised by the highest ground under its feet: the knees, lower on the slope, started higher). The
+// pad nodes are taken from the pads' own meshes (link frame) and the links' frames, not from
+// PadSet.
+TEST(TerrainScenes, KneelingDropIsReleasedAboveTheGroundUnderItsPads) {
+  const Scene scene = testing::load_humanoid_scene("kneel_drop", {{"Simulation/Duration", "0.01"},
+                                                                  {"Terrain/Type", "slope"},
+                                                                  {"Terrain/Slope angle", "4"},
+                                                                  {"Terrain/Level", "0.02"}});
+  HumanoidSimulation simulation(scene);
+  const contact::Terrain& terrain = simulation.terrain();
+  multibody::Data data(simulation.model());
+  multibody::forward_kinematics(simulation.model(), data, simulation.q());
+  double feet = 1e9, pads = 1e9;
+  for (int foot = 0; foot < 2; ++foot) {
+    const multibody::SE3 sole = multibody::frame_placement(
+        simulation.model(), data, simulation.foot_model().sole_frame(foot));
+    const Eigen::Matrix3Xd& points = simulation.foot_model().contact_points();
+    for (int k = 0; k < points.cols(); ++k) {
+      const Eigen::Vector3d p = sole.act_point(points.col(k));
+      feet = std::min(feet, p.z() - terrain.height(p.x(), p.y()));
+    }
+  }
+  const PadSet& set = simulation.pads();
+  ASSERT_EQ(set.size(), 2);
+  for (int i = 0; i < set.size(); ++i) {
+    const multibody::SE3 link = multibody::frame_placement(
+        simulation.model(), data, simulation.model().frame_id(scene.pads.pads[i].description.link));
+    const Eigen::Matrix3Xd& nodes = set.elastic(i)->contact_positions();
+    for (int k = 0; k < nodes.cols(); ++k) {
+      const Eigen::Vector3d p = link.act_point(nodes.col(k));
+      pads = std::min(pads, p.z() - terrain.height(p.x(), p.y()));
+    }
+  }
+  std::printf("kneeling drop on a 4 deg slope: lowest pad node %.6f m, lowest foot point %.6f m "
+              "above the ground under it (release height %.3f m)\n",
+              pads, feet, scene.simulation.release_height);
+  EXPECT_NEAR(std::min(pads, feet), scene.simulation.release_height, 1e-12);
 }
 
 class TerrainAllocation : public ::testing::TestWithParam<const char*> {};
