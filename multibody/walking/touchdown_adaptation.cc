@@ -27,8 +27,8 @@ const Eigen::Vector2d& TouchdownAdaptation::update(const Eigen::Vector2d& cleara
     const double h = clearance[foot];
     const bool loaded = normal_force[foot] > parameters_.force;
     const bool planned_down = h <= parameters_.down_height;
-    if (!planned_down && touched_[foot] && !loaded && h > previous_clearance_[foot])
-      touched_[foot] = false; // lift-off: the swing starts
+    if (!planned_down && previous_clearance_[foot] <= parameters_.down_height)
+      touched_[foot] = false; // the plan lifts the foot off: a swing starts
     double dz = level_[foot];
     if (!planned_down && !touched_[foot]) { // in the air, by the plan
       if (loaded && h < previous_clearance_[foot]) {
@@ -52,7 +52,7 @@ const Eigen::Vector2d& TouchdownAdaptation::update(const Eigen::Vector2d& cleara
       }
       dz = level_[foot];
     } else if (touched_[foot] && !planned_down) {
-      dz = level_[foot] - h; // held on the ground found early, until the plan is down
+      dz = level_[foot] - h; // touched down early: held there until the plan is down
     }
     offset_[foot] = dz;
     previous_clearance_[foot] = h;

@@ -9,6 +9,7 @@
 //     foot has not touched since its lift-off: the foot searches downwards, level <- level - v_s dt
 //     (clamped at -max_offset) until f > f_td;
 //   otherwise dz = level: a foot keeps the level it last found (the next swing starts from it).
+// A swing starts when the plan lifts the foot (h_ref rises above the down height).
 // The offset dz (m, along world z) is added to the foot's reference by the balance loop
 // (balance_controller.h). Allocates nothing.
 #pragma once
