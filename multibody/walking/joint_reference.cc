@@ -16,10 +16,9 @@ void JointReference::sample(double t, Eigen::Ref<Eigen::VectorXd> q_out,
     throw std::invalid_argument("JointReference::sample: q_out has " +
                                 std::to_string(q_out.size()) + " entries, the reference " +
                                 std::to_string(q.cols()) + " joints");
-  t = std::clamp(t, 0.0, duration());
-  const int k = std::min(static_cast<int>(std::floor(t / period)), n - 1);
-  const int k1 = std::min(k + 1, n - 1);
-  const double w = k1 == k ? 0.0 : std::clamp((t - time(k)) / period, 0.0, 1.0);
+  int k, k1;
+  double w;
+  interval(t, k, k1, w);
   // Cubic Hermite basis; tangents (per sample) by central differences, one-sided at the ends.
   const double h00 = (2 * w - 3) * w * w + 1, h10 = ((w - 2) * w + 1) * w;
   const double h01 = (3 - 2 * w) * w * w, h11 = (w - 1) * w * w;
@@ -40,6 +39,14 @@ void JointReference::sample(double t, Eigen::Ref<Eigen::VectorXd> q_out,
                                .transpose();
 }
 
+void JointReference::interval(double t, int& k, int& k1, double& w) const {
+  const int n = n_samples();
+  t = std::clamp(t, 0.0, duration());
+  k = std::min(static_cast<int>(std::floor(t / period)), n - 1);
+  k1 = std::min(k + 1, n - 1);
+  w = k1 == k ? 0.0 : std::clamp((t - time(k)) / period, 0.0, 1.0);
+}
+
 void JointReference::resize(int n, double sample_period, const std::vector<std::string>& names) {
   joint_names = names;
   period = sample_period;
@@ -54,13 +61,11 @@ void JointReference::resize(int n, double sample_period, const std::vector<std::
 }
 
 Eigen::Vector2d JointReference::ground_at(double t) const {
-  const int n = static_cast<int>(ground.rows());
-  if (n == 0)
+  if (ground.rows() != n_samples())
     return Eigen::Vector2d::Zero();
-  t = std::clamp(t, 0.0, duration());
-  const int k = std::min(static_cast<int>(std::floor(t / period)), n - 1);
-  const int k1 = std::min(k + 1, n - 1);
-  const double w = k1 == k ? 0.0 : std::clamp((t - time(k)) / period, 0.0, 1.0);
+  int k, k1;
+  double w;
+  interval(t, k, k1, w);
   return ((1 - w) * ground.row(k) + w * ground.row(k1)).transpose();
 }
 

@@ -43,6 +43,11 @@ struct JointReference {
   /// com_x,com_y,com_z,<joint names>", one row per sample (SI units, rad).
   /// @throws std::runtime_error naming the file if it cannot be written.
   void write_csv(const std::string& path) const;
+
+private:
+  /// The samples k, k1 = min(k + 1, n - 1) around t (clamped to [0, duration]) and the weight
+  /// w in [0, 1] of k1. n_samples() > 0.
+  void interval(double t, int& k, int& k1, double& w) const;
 };
 
 } // namespace plantar::walking
