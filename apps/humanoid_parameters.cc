@@ -447,7 +447,8 @@ const std::vector<ControlNumber>& control_numbers() {
       {"Min contact force", [](C& c) { return &c.balance.stabilizer.min_contact_force; }, 0, false,
        "N: a foot whose F/T sensor reads less has no CoP and does not anchor the estimate."},
       {"CoP margin", [](C& c) { return &c.cop_margin; }, 0, false,
-       "m: CoP targets stay this far inside the sole outline (Sole/Length, Sole/Width)."},
+       "m: CoP targets stay this far inside the sole outline (Sole/Length, Sole/Width), or "
+       "inside each placement's support polygon (Walking/Footstep placement = terrain)."},
       {"ZMP filter time constant", [](C& c) { return &c.balance.zmp_time_constant; }, 0, true,
        "s: low-pass of the reference ZMP p_ref = xi_ref - xi_ref' / omega (finite differences)."},
       {"Velocity filter time constant",
@@ -586,6 +587,11 @@ void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
                     "Footstep placement = terrain with a foot of more than (samples)^2 contact "
                     "points: an samples x samples grid over Sole/Length x Sole/Width stands for "
                     "them, [2, 100].");
+  prm.declare_entry("ZMP support margin", std::to_string(w.zmp_margin), Double(0, 0.1),
+                    "Footstep placement = terrain: the ZMP reference rests on each sole at the "
+                    "point of its support (the hull of its contact points on the ground: three on "
+                    "a rough ground) at least this far inside it (m), nearest to the sole centre "
+                    "(docs/terrain.md), [0, 0.1].");
 }
 
 void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
@@ -608,6 +614,7 @@ void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
   placement = parse_choice(footstep_placements, prm.get("Footstep placement"),
                            "Walking/Footstep placement");
   footprint_samples = static_cast<int>(prm.get_integer("Footprint samples"));
+  zmp_margin = prm.get_double("ZMP support margin");
   try {
     walking::check_walking_parameters(walk);
   } catch (const std::invalid_argument& e) {

@@ -151,6 +151,9 @@ struct WalkingSceneParameters {
   /// A foot of more than footprint_samples^2 contact points is placed by a grid of
   /// footprint_samples per side over its outline, [2, 100].
   int footprint_samples = 9;
+  /// Footstep placement = terrain: the ZMP target of each placement is the point of its support
+  /// polygon shrunk by this margin nearest to the sole centre (m, >= 0).
+  double zmp_margin = 0.03;
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };

@@ -171,6 +171,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
         Eigen::Vector2d(0.5 * scene_.sole.length - control.cop_margin,
                         0.5 * scene_.sole.width - control.cop_margin)
             .cwiseMax(0.0);
+    balance.stabilizer.support_margin = control.cop_margin;
     try {
       balance_ = std::make_unique<walking::BalanceController>(model_, humanoid_, balance, dt, true);
     } catch (const std::invalid_argument& e) {
@@ -301,6 +302,8 @@ void HumanoidSimulation::step() {
       ground_wrenches_[foot] << r.force, r.moment.y(), -r.moment.x(), 0.0;
     }
     balance_->set_planned_ground(reference_.ground_at(t_next));
+    balance_->set_planned_supports(reference_.support_at(0, t_next),
+                                   reference_.support_at(1, t_next));
     balance_->update(q_, v_, acceleration_, ground_wrenches_, q_ref_);
     v_previous_ = v_;
   }

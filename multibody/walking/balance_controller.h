@@ -74,6 +74,12 @@ public:
   /// The planned ground height under each sole (right, left) [m] for the next update
   /// (JointReference::ground_at); its change since the first update shifts the contact test.
   void set_planned_ground(const Eigen::Vector2d& heights) { planned_ground_ = heights; }
+  /// The planned support polygon of each sole (right, left; JointReference::support_at, sole
+  /// frame; nullptr: the sole's rectangle) for the next update; they must outlive it.
+  void set_planned_supports(const Eigen::Matrix2Xd* right, const Eigen::Matrix2Xd* left) {
+    feet_[0].support = right;
+    feet_[1].support = left;
+  }
   const BalanceStatistics& statistics() const { return statistics_; }
   const ComEstimator& estimator() const { return estimator_; }
   const DcmStabilizer& stabilizer() const { return stabilizer_; }

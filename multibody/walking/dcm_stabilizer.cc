@@ -1,5 +1,7 @@
 #include "multibody/walking/dcm_stabilizer.h"
 
+#include "multibody/walking/support_polygon.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -16,9 +18,9 @@ DcmStabilizer::DcmStabilizer(const DcmStabilizerParameters& parameters) : parame
   const DcmStabilizerParameters& p = parameters;
   if (!(p.omega > 0 && p.dcm_gain >= 0 && p.dcm_integral_gain >= 0 &&
         p.integral_time_constant > 0 && p.foot_damping > 0 && p.foot_time_constant > 0 &&
-        p.force_damping > 0 && p.force_time_constant > 0))
+        p.force_damping > 0 && p.force_time_constant > 0 && p.support_margin >= 0))
     throw std::invalid_argument("DcmStabilizer: omega, time constants and dampings must be > 0, "
-                                "gains >= 0");
+                                "gains and the support margin >= 0");
 }
 
 void DcmStabilizer::update(const Eigen::Vector2d& dcm, const Eigen::Vector2d& dcm_ref,
@@ -58,8 +60,16 @@ void DcmStabilizer::update(const Eigen::Vector2d& dcm, const Eigen::Vector2d& dc
       const Eigen::Vector3d offset(cop_target[foot].x() - f.position.x(),
                                    cop_target[foot].y() - f.position.y(), 0.0);
       const Eigen::Vector3d local = f.rotation.transpose() * offset;
-      const double target_x = clamp(local.x(), p.sole_half_size.x());
-      const double target_y = clamp(local.y(), p.sole_half_size.y());
+      double target_x, target_y;
+      if (f.support) {
+        const Eigen::Vector2d target =
+            nearest_in_polygon(local.head<2>(), *f.support, p.support_margin);
+        target_x = target.x();
+        target_y = target.y();
+      } else {
+        target_x = clamp(local.x(), p.sole_half_size.x());
+        target_y = clamp(local.y(), p.sole_half_size.y());
+      }
       const double cop_x = -f.moment.y() / fz, cop_y = f.moment.x() / fz;
       roll_rate += (cop_y - target_y) * fz / p.foot_damping;
       pitch_rate += (target_x - cop_x) * fz / p.foot_damping;

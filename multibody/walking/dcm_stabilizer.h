@@ -10,7 +10,8 @@
 //                      on the segment between the sole centres, p_s = p_R + s (p_L - p_R),
 //                      s in [0, 1], CoP targets p_i + (p_d - p_s), forces f_L = s f,
 //                      f_R = (1 - s) f (f: the measured total)
-//   foot damping       per foot in contact, sole axes, CoP targets clamped to the sole:
+//   foot damping       per foot in contact, sole axes, CoP targets clamped to the sole (its
+//                      support polygon shrunk by a margin when the plan gives one):
 //                      roll'  = (cop_y - cop_y,d) f_z / D - roll / T_c
 //                      pitch' = (cop_x,d - cop_x) f_z / D - pitch / T_c
 //                      (a foot out of contact: only the decay)
@@ -38,7 +39,8 @@ struct DcmStabilizerParameters {
   double max_foot_rotation = 0.1;            ///< rad: |roll|, |pitch| clamp
   double max_leg_offset = 0.03;              ///< m: |z| clamp
   Eigen::Vector2d sole_half_size{0.1, 0.06}; ///< m: CoP targets kept inside +-this (sole axes)
-  double min_contact_force = 20;             ///< N: a lighter foot has no CoP
+  double support_margin = 0.01;  ///< m, >= 0: CoP targets kept this far inside a support polygon
+  double min_contact_force = 20; ///< N: a lighter foot has no CoP
 };
 
 /// One foot as the stabilizer sees it.
@@ -48,6 +50,9 @@ struct StabilizerFoot {
   bool contact = false;                                   ///< planned on the ground and loaded
   Eigen::Vector3d force = Eigen::Vector3d::Zero();        ///< measured, sole axes, N
   Eigen::Vector3d moment = Eigen::Vector3d::Zero(); ///< measured about the sole centre, sole axes
+  /// The planned support polygon, (x, y) in sole axes [m], counter-clockwise (2 x m, m >= 3);
+  /// nullptr: the rectangle +-sole_half_size.
+  const Eigen::Matrix2Xd* support = nullptr;
 };
 
 /// What the feet should do: offsets of the sole relative to its reference.

@@ -76,6 +76,14 @@ Eigen::Matrix3d footstep_rotation(double yaw, double pitch, double roll) {
          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()).toRotationMatrix();
 }
 
+Eigen::Vector2d zmp_target(const Footstep& f) {
+  if (f.zmp_x == 0.0 && f.zmp_y == 0.0)
+    return Eigen::Vector2d(f.x, f.y); // the sole centre: the same bits as before ZMP targets
+  return Eigen::Vector2d(f.x, f.y) +
+         (footstep_rotation(f.yaw, f.pitch, f.roll) * Eigen::Vector3d(f.zmp_x, f.zmp_y, 0.0))
+             .head<2>();
+}
+
 Eigen::Vector3d quintic_transition(double tau) {
   tau = std::clamp(tau, 0.0, 1.0);
   const double t2 = tau * tau, t3 = t2 * tau;
@@ -131,6 +139,12 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
   plan.right_tilt.resize(n, 2);
   plan.left_tilt.resize(n, 2);
   plan.ground.resize(n, 2);
+  plan.supports.clear();
+  plan.supports.push_back(p.initial_right.support);
+  plan.supports.push_back(p.initial_left.support);
+  for (const Footstep& f : p.footsteps)
+    plan.supports.push_back(f.support);
+  plan.support_index.resize(n, 2);
   plan.phase.assign(n, SupportPhase::double_support);
 
   // Event list: each step i: single support [ss_start_i, ss_start_i + Tss], then double
@@ -153,15 +167,15 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
     const double time = k * T;
     plan.time(k) = time;
     Footstep right = p.initial_right, left = p.initial_left;
+    Eigen::Vector2i on = {0, 1}; // the placements the soles are on
     Eigen::Vector2d zmp;
     bool done = false;
-    Eigen::Vector2d previous_support =
-        0.5 * Eigen::Vector2d(right.x + left.x, right.y + left.y); // feet centre
+    Eigen::Vector2d previous_support = 0.5 * (zmp_target(right) + zmp_target(left));
     for (int i = 0; i < n_steps && !done; ++i) {
       const bool right_swings = (i % 2 == 0) == p.right_foot_first;
       Footstep& swing = right_swings ? right : left;
       const Footstep& support = right_swings ? left : right;
-      const Eigen::Vector2d support_centre(support.x, support.y);
+      const Eigen::Vector2d support_centre = zmp_target(support);
       const double transfer_start =
           i == 0 ? p.standing_before : ss_start[i] - p.double_support_time;
       if (time < ss_start[i]) { // double support before step i: ZMP moves to the support sole
@@ -186,16 +200,19 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
         store(k, right_swings ? 1 : 0, support, support.z, support.z);
         plan.phase[k] = right_swings ? SupportPhase::left_support : SupportPhase::right_support;
         plan.zmp_reference.row(k) = support_centre.transpose();
+        plan.support_index.row(k) = on.transpose();
+        plan.support_index(k, right_swings ? 0 : 1) = 2 + i;
         done = true;
         break;
       }
       swing = target; // landed
+      on[right_swings ? 0 : 1] = 2 + i;
       previous_support = support_centre;
     }
     if (done && plan.phase[k] != SupportPhase::double_support)
       continue;
     if (!done) { // after the last step: final double support back to the feet centre
-      const Eigen::Vector2d centre = 0.5 * Eigen::Vector2d(right.x + left.x, right.y + left.y);
+      const Eigen::Vector2d centre = 0.5 * (zmp_target(right) + zmp_target(left));
       const double start = n_steps > 0 ? ss_start[n_steps - 1] + p.single_support_time
                                        : p.standing_before + p.initial_double_support_time;
       const double s = (time - start) / p.final_double_support_time;
@@ -205,6 +222,7 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
     }
     store(k, 0, right, right.z, right.z);
     store(k, 1, left, left.z, left.z);
+    plan.support_index.row(k) = on.transpose();
     plan.zmp_reference.row(k) = zmp.transpose();
   }
   return plan;

@@ -16,7 +16,17 @@ struct Footstep {
   double z = 0.0;     ///< height of the sole centre [m]
   double roll = 0.0;  ///< about the sole's x axis [rad], |.| < pi/2
   double pitch = 0.0; ///< about the yawed y axis [rad], |.| < pi/2
+  /// Where the ZMP reference rests on this sole in single support: (x, y) in the sole frame
+  /// [m]; the sole centre unless the placement moves it inside its support.
+  double zmp_x = 0.0, zmp_y = 0.0;
+  /// The sole's support polygon: (x, y) in the sole frame [m], counter-clockwise (2 x m);
+  /// empty: the whole sole.
+  Eigen::Matrix2Xd support{};
 };
+
+/// The horizontal world position of a footstep's ZMP target [m]:
+/// (x, y) + [R (zmp_x, zmp_y, 0)]_xy with R = footstep_rotation(yaw, pitch, roll).
+Eigen::Vector2d zmp_target(const Footstep& f);
 
 /// The sole's orientation R_z(yaw) R_y(pitch) R_x(roll) (world <- sole).
 Eigen::Matrix3d footstep_rotation(double yaw, double pitch, double roll);
@@ -70,8 +80,8 @@ enum class SupportPhase { double_support, right_support, left_support };
 struct FootstepPlan {
   int n_samples = 0;
   Eigen::VectorXd time;           ///< t_k = k T [s]
-  Eigen::MatrixX2d zmp_reference; ///< p_ref(t) [m]: support-sole centre in single support, linear
-                                  ///< between the two sole centres in double support
+  Eigen::MatrixX2d zmp_reference; ///< p_ref(t) [m]: the support sole's ZMP target (zmp_target)
+                                  ///< in single support, linear between the two in double support
   Eigen::MatrixX3d right_sole;    ///< (x, y, z) of r_sole [m]
   Eigen::MatrixX3d left_sole;     ///< (x, y, z) of l_sole [m]
   Eigen::VectorXd right_yaw, left_yaw;    ///< [rad]
@@ -79,6 +89,12 @@ struct FootstepPlan {
   /// Planned ground height under each sole (right, left) [m]: the placement's z while the foot
   /// is down; during a swing z_from + (z_to - z_from) s(tau) (the line the swing rides on).
   Eigen::MatrixX2d ground;
+  /// The placements' support polygons (Footstep::support): 0 the initial right sole, 1 the
+  /// initial left, 2 + i footsteps[i].
+  std::vector<Eigen::Matrix2Xd> supports;
+  /// Per sample, the placement (index into supports) each sole (right, left) rests on or
+  /// swings to.
+  Eigen::MatrixX2i support_index;
   std::vector<SupportPhase> phase;
   double walk_start = 0.0, walk_end = 0.0; ///< start and end of the walk proper [s]
 };

@@ -69,6 +69,16 @@ Eigen::Vector2d JointReference::ground_at(double t) const {
   return ((1 - w) * ground.row(k) + w * ground.row(k1)).transpose();
 }
 
+const Eigen::Matrix2Xd* JointReference::support_at(int foot, double t) const {
+  if (support_index.rows() != n_samples() || n_samples() == 0)
+    return nullptr;
+  int k, k1;
+  double w;
+  interval(t, k, k1, w);
+  const Eigen::Matrix2Xd& polygon = supports[support_index(w < 0.5 ? k : k1, foot)];
+  return polygon.cols() >= 3 ? &polygon : nullptr;
+}
+
 void JointReference::set(int k, const Eigen::Isometry3d& base,
                          const Eigen::Ref<const Eigen::VectorXd>& angles,
                          const Eigen::Vector3d& centre_of_mass) {

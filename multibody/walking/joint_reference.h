@@ -22,6 +22,10 @@ struct JointReference {
   /// n x 2, planned ground height under the right and left soles [m] (FootstepPlan::ground;
   /// zeros for references planned on flat ground).
   Eigen::MatrixX2d ground;
+  /// The plan's support polygons and, n x 2, the one each sole (right, left) is on or swings
+  /// to (FootstepPlan::supports, support_index; empty for references without them).
+  std::vector<Eigen::Matrix2Xd> supports;
+  Eigen::MatrixX2i support_index;
   int n_samples() const { return static_cast<int>(time.size()); }
   double duration() const { return time.size() ? time(time.size() - 1) : 0.0; }
   /// Reference at any time t (for a simulation dt finer than the period): q and the base
@@ -33,6 +37,9 @@ struct JointReference {
   void sample(double t, Eigen::Ref<Eigen::VectorXd> q_out, Eigen::Isometry3d& base_out) const;
   /// Planned ground heights (right, left) at t [m], linear between samples, t clamped.
   Eigen::Vector2d ground_at(double t) const;
+  /// The support polygon of sole @p foot (0 right, 1 left) at t (the nearer sample), in the
+  /// sole frame [m]; nullptr when none is planned (empty: the whole sole).
+  const Eigen::Matrix2Xd* support_at(int foot, double t) const;
   /// Resizes every array for n samples at `sample_period` (time filled with k period) and
   /// the joints @p names; ground is set to zero.
   void resize(int n, double sample_period, const std::vector<std::string>& names);

@@ -1,5 +1,7 @@
 #include "multibody/walking/terrain_footsteps.h"
 
+#include "multibody/walking/support_polygon.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -27,7 +29,9 @@ namespace {
 
 /// The lowest plane (a, b, c) at the centre, z = a + b x + c y, with h_i <= z(xy_i) for every
 /// point: over the triples of points whose triangle holds the centre (0, 0). a = inf if none.
-Eigen::Vector3d upper_facet(const SolePoints& xy, const Eigen::VectorXd& h) {
+/// @p triple receives the three points' indices.
+Eigen::Vector3d upper_facet(const SolePoints& xy, const Eigen::VectorXd& h,
+                            Eigen::Vector3i& triple) {
   const int n = static_cast<int>(xy.cols());
   const double scale = xy.cwiseAbs().maxCoeff();
   const double area_tolerance = 1e-12 * scale * scale;
@@ -55,8 +59,10 @@ Eigen::Vector3d upper_facet(const SolePoints& xy, const Eigen::VectorXd& h) {
         bool above = true;
         for (int m = 0; m < n && above; ++m)
           above = h[m] <= centre + slope.dot(xy.col(m)) + height_tolerance;
-        if (above)
+        if (above) {
           best << centre, slope.x(), slope.y();
+          triple << i, j, k;
+        }
       }
   return best;
 }
@@ -64,7 +70,7 @@ Eigen::Vector3d upper_facet(const SolePoints& xy, const Eigen::VectorXd& h) {
 } // namespace
 
 Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
-                          const SolePoints& points) {
+                          const SolePoints& points, double zmp_margin) {
   const int n = static_cast<int>(points.cols());
   if (n < 3)
     throw std::invalid_argument("place_on_terrain: " + std::to_string(n) +
@@ -73,13 +79,14 @@ Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
   Footstep placed = step;
   SolePoints xy = points; // the points' horizontal positions in the yawed frame
   Eigen::VectorXd h(n);
+  Eigen::Vector3i triple(-1, -1, -1);
   // Fixed point in the tilt: the tilted sole's points move horizontally by O(tilt^2).
   for (int iteration = 0; iteration < 20; ++iteration) {
     for (int i = 0; i < n; ++i) {
       const Eigen::Vector2d w = Eigen::Vector2d(step.x, step.y) + yaw * xy.col(i);
       h[i] = terrain.height(w.x(), w.y());
     }
-    const Eigen::Vector3d facet = upper_facet(xy, h);
+    const Eigen::Vector3d facet = upper_facet(xy, h, triple);
     if (!std::isfinite(facet[0]))
       throw std::invalid_argument("place_on_terrain: the sole centre is not inside the convex "
                                   "hull of its points");
@@ -99,22 +106,38 @@ Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
   // The tilted points: move the plane so that the lowest is on the ground (the iteration's
   // last change, round-off).
   const Eigen::Matrix3d rotation = footstep_rotation(placed.yaw, placed.pitch, placed.roll);
-  double penetration = -std::numeric_limits<double>::infinity();
+  Eigen::VectorXd gap(n);
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d point = Eigen::Vector3d(placed.x, placed.y, placed.z) +
                                   rotation * Eigen::Vector3d(points(0, i), points(1, i), 0.0);
-    penetration = std::max(penetration, terrain.height(point.x(), point.y()) - point.z());
+    gap[i] = point.z() - terrain.height(point.x(), point.y());
   }
-  placed.z += penetration;
+  placed.z -= gap.minCoeff();
+  gap.array() -= gap.minCoeff();
+  // The support: the facet's three points and any other on the ground; the ZMP target on it.
+  const double on_ground = 1e-9 * std::max(1.0, std::abs(placed.z));
+  SolePoints touching(2, n);
+  int m = 0;
+  for (int i = 0; i < n; ++i)
+    if (gap[i] <= on_ground || i == triple[0] || i == triple[1] || i == triple[2])
+      touching.col(m++) = points.col(i);
+  placed.support = convex_hull(touching.leftCols(m));
+  placed.zmp_x = placed.zmp_y = 0.0;
+  if (placed.support.cols() >= 3) {
+    const Eigen::Vector2d zmp =
+        nearest_in_polygon(Eigen::Vector2d::Zero(), placed.support, zmp_margin);
+    placed.zmp_x = zmp.x();
+    placed.zmp_y = zmp.y();
+  }
   return placed;
 }
 
 void place_walk_on_terrain(const contact::Terrain& terrain, const SolePoints& points,
-                           WalkingParameters& walk) {
-  walk.initial_right = place_on_terrain(terrain, walk.initial_right, points);
-  walk.initial_left = place_on_terrain(terrain, walk.initial_left, points);
+                           double zmp_margin, WalkingParameters& walk) {
+  walk.initial_right = place_on_terrain(terrain, walk.initial_right, points, zmp_margin);
+  walk.initial_left = place_on_terrain(terrain, walk.initial_left, points, zmp_margin);
   for (Footstep& step : walk.footsteps)
-    step = place_on_terrain(terrain, step, points);
+    step = place_on_terrain(terrain, step, points, zmp_margin);
 }
 
 } // namespace plantar::walking

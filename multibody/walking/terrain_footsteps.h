@@ -28,12 +28,19 @@ SolePoints sole_grid(double length, double width, int m);
 /// Tilted, the points move horizontally by O(tilt^2): the facet is searched again at their
 /// tilted positions until the tilt is fixed (to 1e-14 rad, at most 20 passes); last, the plane
 /// moves by max_i (h(p_i) - p_z,i) so that no point is below the ground and the lowest is on it.
+/// The support (Footstep::support) is the convex hull of the facet's three points and of any
+/// other within 1e-9 m of the ground (all of them on a plane; on a rough ground the three, whose
+/// triangle may hold the centre on an edge: a rectangle rests on three corners), and
+/// the ZMP target (zmp_x, zmp_y) the point of it shrunk by @p zmp_margin [m] nearest to the
+/// centre (nearest_in_polygon): the centre itself when it is that far inside, or when the
+/// support is too thin for the margin (then the foot rocks onto a fourth point at a small tilt,
+/// the gap over the sole's size, rather than holding the ZMP near a far corner).
 /// @throws std::invalid_argument for fewer than 3 points or a centre outside their hull.
 Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
-                          const SolePoints& points);
+                          const SolePoints& points, double zmp_margin);
 
 /// place_on_terrain for the initial soles and every footstep of @p walk (modified in place).
 void place_walk_on_terrain(const contact::Terrain& terrain, const SolePoints& points,
-                           WalkingParameters& walk);
+                           double zmp_margin, WalkingParameters& walk);
 
 } // namespace plantar::walking

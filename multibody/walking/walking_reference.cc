@@ -160,6 +160,8 @@ WalkingPattern make_walking_pattern(const multibody::Model& model, const Humanoi
   JointReference& ref = pattern.reference;
   ref.resize(n, walk.period, humanoid.joint_names);
   ref.ground = plan.ground;
+  ref.supports = plan.supports;
+  ref.support_index = plan.support_index;
   Eigen::Isometry3d base = base0;
   const double ground0 = plan.ground.row(0).mean();
   for (int k = 0; k < n; ++k) {

@@ -124,5 +124,34 @@ TEST(DcmStabilizer, DistributionFootDampingAndForceDifferenceAgainstHandValues) 
   EXPECT_EQ(one.offsets()[0].height, 0.0);
 }
 
+TEST(DcmStabilizer, CopTargetsStayInsideThePlannedSupport) {
+  // The right sole rests on the triangle (0.1, -0.06), (0.1, 0.06), (-0.1, 0.06) of its outline
+  // (a rectangle on three corners): the centre is on its hypotenuse. A CoP target at the
+  // centre moves 1 cm inside it, along the hypotenuse's inward normal n = (0.06, 0.1) / |.|.
+  DcmStabilizerParameters parameters;
+  parameters.omega = 3.5;
+  parameters.support_margin = 0.01;
+  Eigen::Matrix2Xd triangle(2, 3);
+  triangle << 0.1, 0.1, -0.1, -0.06, 0.06, 0.06;
+  auto single = standing_feet(600, 0);
+  single[1].contact = false;
+  single[0].support = &triangle;
+  DcmStabilizer one(parameters);
+  const double dt = 1e-3;
+  one.update(Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d(0, -0.1), single,
+             dt);
+  const Eigen::Vector2d target = 0.01 * Eigen::Vector2d(0.06, 0.1).normalized();
+  // roll' = (cop_y - target_y) f_z / D, pitch' = (target_x - cop_x) f_z / D (measured CoP 0).
+  EXPECT_NEAR(one.offsets()[0].roll, dt * (0 - target.y()) * 600 / 2000, 1e-15);
+  EXPECT_NEAR(one.offsets()[0].pitch, dt * target.x() * 600 / 2000, 1e-15);
+  // Far outside, beyond the vertex (0.1, 0.06): the target is the shrunk triangle's vertex,
+  // where the offset legs x = 0.09 and y = 0.05 meet.
+  DcmStabilizer far(parameters);
+  far.update(Eigen::Vector2d::Zero(), Eigen::Vector2d::Zero(), Eigen::Vector2d(0.5, 0.5), single,
+             dt);
+  EXPECT_NEAR(far.offsets()[0].roll, dt * (0 - 0.05) * 600 / 2000, 1e-15);
+  EXPECT_NEAR(far.offsets()[0].pitch, dt * 0.09 * 600 / 2000, 1e-15);
+}
+
 } // namespace
 } // namespace plantar::walking

@@ -1,12 +1,14 @@
 // Footsteps placed on a terrain (multibody/walking/terrain_footsteps.h) and the walk planned on
-// them: a slope's exact plane, no sampled point under a curved ground, and the joint reference
-// realising the tilted, raised soles.
+// them: a slope's exact plane, no sampled point under a curved ground, the joint reference
+// realising the tilted, raised soles, and each placement's support polygon and ZMP target
+// (multibody/walking/support_polygon.h) against closed forms and dense searches.
 #include "contact/cylinder_terrain.h"
 #include "contact/rough_terrain.h"
 #include "contact/slope_terrain.h"
 #include "contact/terrain.h"
 #include "multibody/data.h"
 #include "multibody/kinematics.h"
+#include "multibody/walking/support_polygon.h"
 #include "multibody/walking/terrain_footsteps.h"
 #include "multibody/walking/walking_reference.h"
 #include "tests/multibody/walking/hrp2_humanoid.h"
@@ -47,7 +49,7 @@ TEST(TerrainFootsteps, SoleRestsOnASlopesPlane) {
   const plantar::contact::SlopeTerrain slope(5.0 * M_PI / 180, 30.0 * M_PI / 180,
                                              Eigen::Vector3d(0.1, 0.2, 0.05));
   for (const double yaw : {0.0, 0.4, -2.0}) {
-    const Footstep placed = place_on_terrain(slope, {0.3, -0.1, yaw}, kGrid);
+    const Footstep placed = place_on_terrain(slope, {0.3, -0.1, yaw}, kGrid, 0.03);
     const Eigen::Matrix3d rotation = footstep_rotation(placed.yaw, placed.pitch, placed.roll);
     const Eigen::Vector3d normal =
         plantar::contact::terrain_normal(slope.gradient(placed.x, placed.y));
@@ -62,7 +64,94 @@ TEST(TerrainFootsteps, SoleRestsOnASlopesPlane) {
     EXPECT_NEAR(std::remainder(std::atan2(rotation(1, 0), rotation(0, 0)) - yaw, 2 * M_PI), 0.0,
                 1e-12);
     EXPECT_LT(gaps.cwiseAbs().maxCoeff(), 1e-12); // every point of the sole on the plane
+    // On a plane the whole sole supports (its four corners) and the ZMP target is its centre.
+    ASSERT_EQ(placed.support.cols(), 4);
+    EXPECT_NEAR(placed.support.cwiseAbs().row(0).minCoeff(), kLength / 2, 1e-15);
+    EXPECT_NEAR(placed.support.cwiseAbs().row(1).minCoeff(), kWidth / 2, 1e-15);
+    EXPECT_EQ(placed.zmp_x, 0.0);
+    EXPECT_EQ(placed.zmp_y, 0.0);
   }
+}
+
+/// The distance of x inside the convex polygon (counter-clockwise) to its nearest edge line
+/// (negative outside).
+double depth(const Eigen::Vector2d& x, const Eigen::Matrix2Xd& polygon) {
+  double d = 1e9;
+  for (int i = 0; i < polygon.cols(); ++i) {
+    const Eigen::Vector2d a = polygon.col(i), e = polygon.col((i + 1) % polygon.cols()) - a;
+    d = std::min(d, (e.x() * (x - a).y() - e.y() * (x - a).x()) / e.norm());
+  }
+  return d;
+}
+
+/// The radius of a triangle's inscribed circle, 2 area / perimeter [m].
+double inscribed_radius(const Eigen::Matrix2Xd& t) {
+  const Eigen::Vector2d a = t.col(0), b = t.col(1), c = t.col(2);
+  const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+  return 2 * area / ((b - a).norm() + (c - b).norm() + (a - c).norm());
+}
+
+/// The point of the polygon at depth >= margin nearest to p, by Dykstra's alternating
+/// projections onto the edges' offset half-planes (an iterative method independent of
+/// nearest_in_polygon's enumeration; it converges to the projection on their intersection).
+Eigen::Vector2d dykstra_nearest(const Eigen::Vector2d& p, const Eigen::Matrix2Xd& polygon,
+                                double margin) {
+  const int m = static_cast<int>(polygon.cols());
+  std::vector<Eigen::Vector2d> correction(m, Eigen::Vector2d::Zero());
+  Eigen::Vector2d x = p;
+  for (int sweep = 0; sweep < 200000; ++sweep) {
+    const Eigen::Vector2d start = x;
+    for (int i = 0; i < m; ++i) {
+      const Eigen::Vector2d a = polygon.col(i), e = polygon.col((i + 1) % m) - a;
+      const Eigen::Vector2d n = Eigen::Vector2d(-e.y(), e.x()).normalized();
+      const Eigen::Vector2d y = x + correction[i];
+      const double violation = margin - n.dot(y - a);
+      const Eigen::Vector2d projected = violation > 0 ? Eigen::Vector2d(y + violation * n) : y;
+      correction[i] = y - projected;
+      x = projected;
+    }
+    if ((x - start).norm() < 1e-16)
+      break;
+  }
+  return x;
+}
+
+TEST(SupportPolygon, HullAndNearestPointAgainstClosedFormsAndDykstra) {
+  // Hull: a square's corners among interior and edge points, returned counter-clockwise.
+  Eigen::Matrix2Xd points(2, 9);
+  points << 0.5, 1, 0, 1, 0.5, 0, 0, 1, 0.7, 0, 0, 1, 1, 0.5, 0.5, 0, 0.5, 0.9;
+  const Eigen::Matrix2Xd hull = convex_hull(points);
+  Eigen::Matrix2Xd square(2, 4);
+  square << 0, 1, 1, 0, 0, 0, 1, 1;
+  ASSERT_EQ(hull.cols(), 4);
+  EXPECT_EQ((hull - square).cwiseAbs().maxCoeff(), 0.0);
+  // Nearest point of the unit right triangle shrunk by d = 0.05: inside, unchanged; beyond the
+  // hypotenuse, on the offset line x + y = 1 - d sqrt(2); beyond the right angle, its vertex
+  // (d, d).
+  Eigen::Matrix2Xd triangle(2, 3);
+  triangle << 0, 1, 0, 0, 0, 1;
+  const double d = 0.05;
+  EXPECT_EQ((nearest_in_polygon({0.2, 0.3}, triangle, d) - Eigen::Vector2d(0.2, 0.3)).norm(), 0);
+  const double c = 0.5 * (1 - d * std::sqrt(2.0));
+  EXPECT_LT((nearest_in_polygon({2, 2}, triangle, d) - Eigen::Vector2d(c, c)).norm(), 1e-15);
+  EXPECT_LT((nearest_in_polygon({-1, -2}, triangle, d) - Eigen::Vector2d(d, d)).norm(), 1e-15);
+  // Too thin for the margin (inscribed radius (2 - sqrt(2)) / 2 = 0.29): margin 0.
+  EXPECT_LT((nearest_in_polygon({-1, -2}, triangle, 0.4) - Eigen::Vector2d(0, 0)).norm(), 1e-15);
+  // Random points around a pentagon against Dykstra's projection.
+  Eigen::Matrix2Xd pentagon(2, 5);
+  for (int i = 0; i < 5; ++i)
+    pentagon.col(i) << 0.1 * std::cos(2 * M_PI * i / 5 + 0.3),
+        0.07 * std::sin(2 * M_PI * i / 5 + 0.3);
+  double worst = 0;
+  std::srand(3);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Vector2d p = 0.2 * Eigen::Vector2d::Random();
+    const Eigen::Vector2d x = nearest_in_polygon(p, pentagon, 0.02);
+    EXPECT_GE(depth(x, pentagon), 0.02 - 1e-12);
+    worst = std::max(worst, (x - dykstra_nearest(p, pentagon, 0.02)).norm());
+  }
+  std::printf("pentagon, margin 2 cm: largest distance to Dykstra's projection %.1e m\n", worst);
+  EXPECT_LT(worst, 1e-12);
 }
 
 TEST(TerrainFootsteps, NoSampledPointUnderACurvedGround) {
@@ -70,7 +159,7 @@ TEST(TerrainFootsteps, NoSampledPointUnderACurvedGround) {
   const plantar::contact::CylinderTerrain bump(0.3, 0.02, 20.0 * M_PI / 180,
                                                Eigen::Vector2d(0.05, 0.0), 0.0);
   for (const double x : {-0.05, 0.0, 0.08}) {
-    const Footstep placed = place_on_terrain(bump, {x, 0.01, 0.3}, kGrid);
+    const Footstep placed = place_on_terrain(bump, {x, 0.01, 0.3}, kGrid, 0.03);
     const Eigen::Vector2d gaps = gap_range(bump, placed, 9);
     std::printf("x %.2f: z %.5f m, roll %.4f, pitch %.4f rad, sampled gaps [%.1e, %.2e] m\n", x,
                 placed.z, placed.roll, placed.pitch, gaps(0), gaps(1));
@@ -84,7 +173,7 @@ TEST(TerrainFootsteps, WalkReferenceRealisesTiltedRaisedSoles) {
   const plantar::contact::SlopeTerrain slope(3.0 * M_PI / 180, -90.0 * M_PI / 180,
                                              Eigen::Vector3d::Zero());
   WalkingParameters walk;
-  place_walk_on_terrain(slope, kGrid, walk);
+  place_walk_on_terrain(slope, kGrid, 0.03, walk);
   ASSERT_GT(walk.footsteps.back().z, 0.03);
   const plantar::multibody::Model model = hrp2_model();
   const Humanoid humanoid(model, hrp2_description());
@@ -152,7 +241,7 @@ TEST(TerrainFootsteps, RigidOutlineRestsOnThreePointsAroundItsCentre) {
   outline.row(1) *= kWidth;
   for (const double x : {0.0, 0.135, 0.27, 0.405}) {
     const Footstep step{x, -0.105, 0.2};
-    const Footstep placed = place_on_terrain(ground, step, outline);
+    const Footstep placed = place_on_terrain(ground, step, outline, 0.03);
     const Eigen::Matrix3d rotation = footstep_rotation(placed.yaw, placed.pitch, placed.roll);
     std::vector<double> gaps;
     double lowest = 1e9;
@@ -190,7 +279,76 @@ TEST(TerrainFootsteps, RigidOutlineRestsOnThreePointsAroundItsCentre) {
     // (tilt^2 / 2 x 0.11 m x slope 0.1: 6e-5 m at 0.1 rad) and the grid's slope step (5e-4 x
     // 0.11 m).
     EXPECT_NEAR(placed.z, dense, 1.2e-4);
+    // The support: at least the facet's three points, each on the ground (as above); the ZMP
+    // target 3 cm inside it (in a triangle too thin for that, 0), the nearest such point to the
+    // centre (Dykstra's projection).
+    ASSERT_EQ(placed.support.cols(), 3);
+    for (int s = 0; s < placed.support.cols(); ++s) {
+      const Eigen::Vector3d p =
+          Eigen::Vector3d(placed.x, placed.y, placed.z) +
+          rotation * Eigen::Vector3d(placed.support(0, s), placed.support(1, s), 0);
+      EXPECT_LT(p.z() - ground.height(p.x(), p.y()), 1e-4);
+    }
+    const Eigen::Vector2d zmp(placed.zmp_x, placed.zmp_y);
+    const double margin = inscribed_radius(placed.support) >= 0.03 ? 0.03 : 0.0;
+    const Eigen::Vector2d projected =
+        dykstra_nearest(Eigen::Vector2d::Zero(), placed.support, margin);
+    std::printf("  support of %d points (inscribed radius %.4f m); ZMP target (%.4f, %.4f) m, "
+                "%.4f m inside it, %.1e m from Dykstra's projection\n",
+                int(placed.support.cols()), inscribed_radius(placed.support), zmp.x(), zmp.y(),
+                depth(zmp, placed.support), (zmp - projected).norm());
+    EXPECT_GE(depth(zmp, placed.support), margin - 1e-9);
+    EXPECT_LT((zmp - projected).norm(), 1e-8);
   }
+}
+
+TEST(TerrainFootsteps, PlanHoldsTheZmpOnEachSupport) {
+  // The paper's walk placed on the rough ground by the rigid outline: in single support the ZMP
+  // reference is the support sole's ZMP target R (zmp_x, zmp_y) + (x, y), and the plan's support
+  // index names the placement each foot is on.
+  plantar::contact::RoughTerrainParameters rough;
+  rough.rms = 0.005;
+  rough.correlation_length = 0.1;
+  const plantar::contact::RoughTerrain ground(rough);
+  SolePoints outline(2, 8);
+  outline << -0.5, 0, 0.5, 0.5, 0.5, 0, -0.5, -0.5, -0.5, -0.5, -0.5, 0, 0.5, 0.5, 0.5, 0;
+  outline.row(0) *= kLength;
+  outline.row(1) *= kWidth;
+  WalkingParameters walk;
+  place_walk_on_terrain(ground, outline, 0.03, walk);
+  const FootstepPlan plan = make_footstep_plan(walk);
+  std::vector<Footstep> placements = {walk.initial_right, walk.initial_left};
+  placements.insert(placements.end(), walk.footsteps.begin(), walk.footsteps.end());
+  ASSERT_EQ(plan.supports.size(), placements.size());
+  double error = 0, largest_shift = 0;
+  int single = 0;
+  for (int k = 0; k < plan.n_samples; ++k) {
+    for (int side = 0; side < 2; ++side) {
+      // A supporting foot is on the placement the index names (a swing foot: its target).
+      const bool swing =
+          plan.phase[k] == (side == 0 ? SupportPhase::left_support : SupportPhase::right_support);
+      const Footstep& on = placements[plan.support_index(k, side)];
+      const Eigen::Vector3d sole = (side == 0 ? plan.right_sole : plan.left_sole).row(k);
+      if (!swing)
+        error = std::max(error, (sole - Eigen::Vector3d(on.x, on.y, on.z)).norm());
+    }
+    if (plan.phase[k] == SupportPhase::double_support)
+      continue;
+    ++single;
+    const int side = plan.phase[k] == SupportPhase::right_support ? 0 : 1;
+    const Footstep& on = placements[plan.support_index(k, side)];
+    const Eigen::Vector3d target =
+        Eigen::Vector3d(on.x, on.y, on.z) +
+        footstep_rotation(on.yaw, on.pitch, on.roll) * Eigen::Vector3d(on.zmp_x, on.zmp_y, 0);
+    error = std::max(error, (plan.zmp_reference.row(k).transpose() - target.head<2>()).norm());
+    largest_shift = std::max(largest_shift, std::hypot(on.zmp_x, on.zmp_y));
+  }
+  std::printf("%d single-support samples: ZMP reference and soles against their placements "
+              "%.1e m; largest ZMP target shift from a sole centre %.4f m\n",
+              single, error, largest_shift);
+  EXPECT_GT(single, 900);
+  EXPECT_LT(error, 1e-15);
+  EXPECT_GT(largest_shift, 0.01); // the rough ground moves the targets
 }
 
 TEST(TerrainFootsteps, BadPointsAreReported) {
@@ -199,10 +357,10 @@ TEST(TerrainFootsteps, BadPointsAreReported) {
   EXPECT_THROW(sole_grid(0.2, 0.1, 1), std::invalid_argument);
   SolePoints two(2, 2);
   two << 0.1, -0.1, 0.0, 0.0;
-  EXPECT_THROW(place_on_terrain(slope, {}, two), std::invalid_argument);
+  EXPECT_THROW(place_on_terrain(slope, {}, two, 0.0), std::invalid_argument);
   SolePoints off_centre(2, 3);
   off_centre << 0.1, 0.2, 0.1, 0.1, 0.1, 0.2;
-  EXPECT_THROW(place_on_terrain(slope, {}, off_centre), std::invalid_argument);
+  EXPECT_THROW(place_on_terrain(slope, {}, off_centre, 0.0), std::invalid_argument);
 }
 
 } // namespace
