@@ -7,6 +7,10 @@
 // fixed 0.16 m); the CoM placement converges to the same tolerance (1e-10 m) from another
 // start, so the reference moves by ~1e-12 m and the figures by 1e-12..1e-9 relative. Figures
 // that are round-off themselves (a final roll of 5e-9 deg) get an absolute floor.
+// Since M_eff is factorised on the kinematic tree (was dense Cholesky), the rigid open-loop
+// walk's largest roll difference moved by 1.8e-5 relative (0.0467621 -> 0.0467613 deg; the
+// walk rocks on its toes and amplifies round-off, docs/walking.md); its other figures by 1e-9 at
+// most. That figure is held to 1e-4.
 //
 // The summaries were recorded with Contact/Solver = gauss-seidel and Failure residual = 1e-2
 // m/s, the scenes' settings then; the scenes now use the defaults (auto, 10 x Tolerance: issue
@@ -55,7 +59,7 @@ const std::map<std::string, Tolerance> tolerances = {
     {"min_waist_height", {1e-9, 1e-10}},        // m
     {"max_waist_height_error", {1e-7, 1e-10}},  // m
     {"final_roll_deg", {1e-7, 1e-8}},           // deg
-    {"max_roll_difference_deg", {1e-7, 1e-8}},  // deg
+    {"max_roll_difference_deg", {1e-4, 1e-8}},  // deg
     {"max_penetration", {1e-4, 1e-12}},         // m
     {"n_steps", {0, 0}}};
 
