@@ -25,6 +25,7 @@ ViscoelasticPad::ViscoelasticPad(const dealii::Triangulation<3>& triangulation, 
   compliance_.resize(3 * n, 3 * n);
   offset_ = Eigen::VectorXd::Zero(3 * n);
   forces_.reinit(3 * n);
+  displacements_.reinit(3 * n);
   set_placement(rotation, translation);
 }
 
@@ -68,15 +69,23 @@ void ViscoelasticPad::finish_step(PadState& state) {
                                 std::to_string(state.n_nodes()) + " nodes (expected " +
                                 std::to_string(n) + ")");
   // F_pad = R^T a_k^T F_contact (a_k: node k's contact frame <- body, of this step).
+  // U = C F + d from the contact solve (contact frames), without a damper's lag: the step's
+  // displacement, so that the sole need not form C_eff F again.
   const Eigen::VectorXd& f = state.force();
+  const Eigen::VectorXd& u = state.displacement();
+  const bool solved = state.has_force() && state.damping() == 0.0;
   for (int k = 0; k < n; ++k) {
     const Eigen::Matrix3d to_pad = rotation_.transpose() * state.node_rotation(k).transpose();
     const Eigen::Vector3d force =
         state.has_force() ? Eigen::Vector3d(to_pad * f.segment<3>(3 * k)) : Eigen::Vector3d::Zero();
-    for (int d = 0; d < 3; ++d)
+    const Eigen::Vector3d displacement =
+        solved ? Eigen::Vector3d(to_pad * u.segment<3>(3 * k)) : Eigen::Vector3d::Zero();
+    for (int d = 0; d < 3; ++d) {
       forces_(3 * k + d) = force[d];
+      displacements_(3 * k + d) = displacement[d];
+    }
   }
-  sole_->advance(forces_);
+  sole_->advance(forces_, solved ? &displacements_ : nullptr);
   const dealii::Vector<double>& history = sole_->history_displacement();
   for (int k = 0; k < n; ++k)
     offset_.segment<3>(3 * k).noalias() =

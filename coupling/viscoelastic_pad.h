@@ -70,7 +70,8 @@ private:
   Eigen::Matrix3Xd positions_;
   Eigen::MatrixXd compliance_;
   Eigen::VectorXd offset_;
-  dealii::Vector<double> forces_; // pad frame, N
+  dealii::Vector<double> forces_;        // pad frame, N
+  dealii::Vector<double> displacements_; // pad frame, m: the solve's U = C F + d
 };
 
 } // namespace plantar::coupling

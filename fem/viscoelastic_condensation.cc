@@ -314,13 +314,17 @@ void ViscoelasticCondensation::assemble_effective_stiffness() {
   timings_.factorization = seconds_since(start);
 }
 
-void ViscoelasticCondensation::advance(const Vector<double>& contact_forces) {
-  if (contact_forces.size() != 3 * n_contacts())
+void ViscoelasticCondensation::advance(const Vector<double>& contact_forces,
+                                       const Vector<double>* contact_displacement) {
+  if (contact_forces.size() != 3 * n_contacts() ||
+      (contact_displacement && contact_displacement->size() != 3 * n_contacts()))
     throw std::invalid_argument(
         "ViscoelasticCondensation::advance: " + std::to_string(contact_forces.size()) +
-        " contact forces (expected 3 n_c = " + std::to_string(3 * n_contacts()) + ")");
+        " contact forces and " +
+        std::to_string(contact_displacement ? contact_displacement->size() : 0) +
+        " displacements (expected 3 n_c = " + std::to_string(3 * n_contacts()) + ")");
   if (contact_space_) {
-    advance_contact_space(contact_forces);
+    advance_contact_space(contact_forces, contact_displacement);
     return;
   }
   auto start = std::chrono::steady_clock::now();
@@ -486,7 +490,8 @@ void ViscoelasticCondensation::check_separable() {
   w_cc_ = first->w_cc;
 }
 
-void ViscoelasticCondensation::advance_contact_space(const Vector<double>& contact_forces) {
+void ViscoelasticCondensation::advance_contact_space(const Vector<double>& contact_forces,
+                                                     const Vector<double>* contact_displacement) {
   const auto start = std::chrono::steady_clock::now();
   const unsigned int n = 3 * n_contacts();
   const std::size_t n_branches = beta_.size();
@@ -497,13 +502,16 @@ void ViscoelasticCondensation::advance_contact_space(const Vector<double>& conta
       a -= beta_[i] * (decay_[i] * branch_force_state_[i](j) - gamma_[i] * force_state_(j));
     next_force_state_(j) = a;
   }
-  for (unsigned int r = 0; r < n; ++r) {
-    const double* row = compliance_.data() + std::size_t{r} * n;
-    double u = 0;
-    for (unsigned int j = 0; j < n; ++j)
-      u += row[j] * next_force_state_(j);
-    next_contact_displacement_(r) = u;
-  }
+  if (contact_displacement)
+    next_contact_displacement_ = *contact_displacement;
+  else
+    for (unsigned int r = 0; r < n; ++r) {
+      const double* row = compliance_.data() + std::size_t{r} * n;
+      double u = 0;
+      for (unsigned int j = 0; j < n; ++j)
+        u += row[j] * next_force_state_(j);
+      next_contact_displacement_(r) = u;
+    }
   // The step's dissipation, the quadrature form's integrated: q_i^T K_i q_i = beta_i b_i . q_c,i,
   // q_i^T K_i (u^{n+1} - u^n) = beta_i b_i . (u_c^{n+1} - u_c^n), and so on.
   for (std::size_t i = 0; i < n_branches; ++i) {

@@ -122,8 +122,13 @@ public:
   /// One step t_n -> t_n + dt under the contact forces @p contact_forces (3 n_c, N, mesh frame,
   /// node-major, at t_{n+1}): solves K_eff u^{n+1} = P f - f_h^n, updates h_i at every
   /// quadrature point (the recursive update above), assembles f_h^{n+1} and d^{n+1}.
+  /// @p contact_displacement, optional (3 n_c, m, mesh frame, node-major): u_c^{n+1} =
+  /// C_eff f^{n+1} + d^n as the caller's contact solve already has it; in the contact-space form
+  /// it stands for the step's C_eff a^{n+1} (equal up to round-off), so that the step makes no
+  /// product with C_eff; the quadrature form ignores it.
   /// No heap allocation. Throws std::invalid_argument on a size mismatch.
-  void advance(const dealii::Vector<double>& contact_forces);
+  void advance(const dealii::Vector<double>& contact_forces,
+               const dealii::Vector<double>* contact_displacement = nullptr);
   /// Back to rest: u = 0, h = 0, d = 0, t = 0.
   void reset();
 
@@ -194,7 +199,8 @@ private:
   // separable_ and the shared branch constants from regions_.
   void check_separable();
   // advance() in contact space.
-  void advance_contact_space(const dealii::Vector<double>& contact_forces);
+  void advance_contact_space(const dealii::Vector<double>& contact_forces,
+                             const dealii::Vector<double>* contact_displacement);
   // @p field = K_eff^-1 P @p force (n_dofs; @p force 3 n_c, contact space).
   void field_of_contact_forces(const dealii::Vector<double>& force,
                                dealii::Vector<double>& field) const;

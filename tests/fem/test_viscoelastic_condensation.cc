@@ -338,6 +338,8 @@ TEST(ViscoelasticCondensation, ContactSpaceFormEqualsTheQuadratureForm) {
     ViscoelasticCondensationParameters p = parameters(dt);
     p.cell_dissipation = false;
     ViscoelasticCondensation contact(tria, disc, table, p);
+    // The same, advanced with the caller's u_c = C_eff f + d^n (as a contact solve has it).
+    ViscoelasticCondensation given(tria, disc, table, p);
     EXPECT_TRUE(quadrature.separable() && contact.separable());
     EXPECT_FALSE(quadrature.contact_space());
     ASSERT_TRUE(contact.contact_space());
@@ -345,12 +347,22 @@ TEST(ViscoelasticCondensation, ContactSpaceFormEqualsTheQuadratureForm) {
     EXPECT_TRUE(contact.cell_dissipated_energy().empty());
 
     const unsigned int n = 3 * contact.n_contacts();
-    dealii::Vector<double> f(n);
-    double worst_u = 0, worst_d = 0;
+    dealii::Vector<double> f(n), u(n);
+    double worst_u = 0, worst_d = 0, worst_given = 0;
     for (int step = 1; step <= 300; ++step) {
       forces_at(step * dt, contact.n_contacts(), f);
-      quadrature.advance(f);
+      for (unsigned int r = 0; r < n; ++r) {
+        u(r) = given.history_displacement()(r);
+        for (unsigned int j = 0; j < n; ++j)
+          u(r) += given.effective_compliance()[std::size_t{r} * n + j] * f(j);
+      }
+      quadrature.advance(f, &u); // ignored by the quadrature form (compared with contact below)
       contact.advance(f);
+      given.advance(f, &u);
+      worst_given = std::max(worst_given, relative_difference(given.contact_displacement(),
+                                                              contact.contact_displacement()));
+      worst_given = std::max(worst_given, relative_difference(given.history_displacement(),
+                                                              contact.history_displacement()));
       worst_u = std::max(worst_u, relative_difference(contact.contact_displacement(),
                                                       quadrature.contact_displacement()));
       if (quadrature.history_displacement().linfty_norm() > 0)
@@ -383,8 +395,13 @@ TEST(ViscoelasticCondensation, ContactSpaceFormEqualsTheQuadratureForm) {
       }
     }
     std::printf("%s: contact space vs quadrature points: u_c %.1e, d %.1e (relative, max over "
-                "300 steps)\n",
-                disc.name().c_str(), worst_u, worst_d);
+                "300 steps); with the caller's u_c: %.1e\n",
+                disc.name().c_str(), worst_u, worst_d, worst_given);
+    EXPECT_NEAR(given.dissipated_energy(), contact.dissipated_energy(),
+                1e-12 * contact.dissipated_energy());
+    EXPECT_NEAR(given.external_work(), contact.external_work(),
+                1e-12 * std::abs(contact.external_work()));
+    EXPECT_LT(worst_given, 1e-12);
     EXPECT_LT(worst_u, 1e-10);
     EXPECT_LT(worst_d, 1e-10);
     // Back to rest: the same response again.
