@@ -92,7 +92,8 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   const double dt = sim.time_step;
   lift_ = foot_model_->lift();
   summary_.sole_thickness = lift_;
-  pads_ = std::make_unique<PadSet>(scene_.pads.pads, scene_.simulation.time_step);
+  pads_ = std::make_unique<PadSet>(scene_.pads.pads, scene_.simulation.time_step,
+                                   scene_.output.write_vtu);
   pads_->resolve(model_);
   pad_reports_.resize(pads_->size());
 

@@ -25,7 +25,8 @@ bool is_viscoelastic(const std::string& materials, const std::string& parameter)
 
 } // namespace
 
-PadSet::PadSet(const std::vector<PadEntry>& entries, double time_step) : entries_(entries) {
+PadSet::PadSet(const std::vector<PadEntry>& entries, double time_step, bool cell_dissipation)
+    : entries_(entries) {
   for (const PadEntry& entry : entries_) {
     const coupling::PadDescription& description = entry.description;
     const std::string parameter = "pad '" + description.name + "' materials";
@@ -42,6 +43,7 @@ PadSet::PadSet(const std::vector<PadEntry>& entries, double time_step) : entries
         parameters.attached_boundary = groups.surface("top");
         parameters.contact_boundary = groups.surface("bottom");
         parameters.time_step = time_step;
+        parameters.cell_dissipation = cell_dissipation;
         auto pad = std::make_unique<coupling::ViscoelasticPad>(tria, description.degree, materials,
                                                                parameters, description.rotation(),
                                                                description.translation);
@@ -209,7 +211,8 @@ void PadSet::write_fields(int i, const multibody::Data& data,
                             &sole.contact_dofs(), &areas_[i]};
     fem::ViscoelasticCellFields fields = sole.cell_fields();
     std::vector<PadCellField> cells;
-    cells.push_back({"dissipated_energy_density", std::move(fields.dissipated_energy_density)});
+    if (!fields.dissipated_energy_density.empty()) // kept only with the .vtu series
+      cells.push_back({"dissipated_energy_density", std::move(fields.dissipated_energy_density)});
     cells.push_back({"von_mises", std::move(fields.von_mises)});
     for (std::size_t b = 0; b < fields.overstress.size(); ++b)
       cells.push_back({"overstress_" + std::to_string(b + 1), std::move(fields.overstress[b])});

@@ -37,9 +37,11 @@ struct PadReport {
 class PadSet {
 public:
   /// Builds (meshes and condenses) every pad of @p entries; a viscoelastic pad at the time step
-  /// @p time_step (s, > 0: the stepper's). Throws what DeformablePad or ViscoelasticPad throws,
+  /// @p time_step (s, > 0: the stepper's), with its per-cell dissipation accumulated when
+  /// @p cell_dissipation (the .vtu field; else a separable pad runs in contact space,
+  /// fem/viscoelastic_condensation.h). Throws what DeformablePad or ViscoelasticPad throws,
   /// prefixed with the pad's name.
-  PadSet(const std::vector<PadEntry>& entries, double time_step);
+  PadSet(const std::vector<PadEntry>& entries, double time_step, bool cell_dissipation);
   ~PadSet();
   PadSet(const PadSet&) = delete;
   PadSet& operator=(const PadSet&) = delete;
