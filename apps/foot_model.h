@@ -34,6 +34,9 @@ namespace plantar::app {
 struct FootReport {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  ///< N, sum of the contact forces
   Eigen::Vector3d moment = Eigen::Vector3d::Zero(); ///< (sum f_z x, sum f_z y, 0), N m
+  /// sum x × f about the world origin, world axes, N m (x the contact point; a sole's node
+  /// undeformed): the ground's moment on the foot, the F/T sensors' input.
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
   double depth = 0; ///< m, deepest contact point below z = 0 (deformed sole included)
 };
 

@@ -297,10 +297,9 @@ void HumanoidSimulation::step() {
   if (balance_) {
     acceleration_ = (v_ - v_previous_) / dt;
     for (int foot = 0; foot < 2; ++foot) {
-      // About the world origin with the contacts on z = 0 (FootReport: sum f_z x, sum f_z y);
-      // the yaw moment is not reported (0).
+      // [f; sum x × f] about the world origin, at the contact points' heights.
       const FootReport& r = foot_reports_[foot];
-      ground_wrenches_[foot] << r.force, r.moment.y(), -r.moment.x(), 0.0;
+      ground_wrenches_[foot] << r.force, r.torque;
     }
     balance_->set_planned_ground(reference_.ground_at(t_next));
     balance_->set_planned_supports(reference_.support_at(0, t_next),

@@ -102,6 +102,8 @@ public:
   double terrain_lift() const { return terrain_lift_; }
   /// The feet: their contacts, sole frames and fields.
   const FootModel& foot_model() const { return *foot_model_; }
+  /// The ground's force and moments on foot @p foot (0 right, 1 left) over the last step.
+  const FootReport& foot_report(int foot) const { return foot_reports_[foot]; }
   /// The deformable pads (possibly none).
   const PadSet& pads() const { return *pads_; }
   /// The balance loop of Control/Stabilizer = dcm (sensors, estimator, stabilizer); nullptr

@@ -28,6 +28,7 @@ void RigidFoot::add_contacts(double friction) {
 void RigidFoot::report(int foot, const multibody::Data& data, double dt, FootReport& out) const {
   out.force.setZero();
   out.moment.setZero();
+  out.torque.setZero();
   out.depth = 0;
   for (const Point& c : feet_[foot]) {
     const Eigen::Vector3d p = stepper_->point_impulse(c.index) / dt; // the step's impulse / dt
@@ -36,6 +37,7 @@ void RigidFoot::report(int foot, const multibody::Data& data, double dt, FootRep
     out.force += f;
     out.moment.x() += f.z() * x.x();
     out.moment.y() += f.z() * x.y();
+    out.torque += x.cross(f);
     out.depth = std::max(out.depth, -contact::terrain_gap(stepper_->terrain(), x));
   }
 }

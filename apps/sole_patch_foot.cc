@@ -100,6 +100,7 @@ void SolePatchFoot::report(int foot, const multibody::Data& data, double dt,
   (void)dt; // node forces are forces at the step's end
   out.force.setZero();
   out.moment.setZero();
+  out.torque.setZero();
   out.depth = 0;
   const coupling::PadState& pad = *pads_[foot];
   for (int k = 0; k < n_nodes(); ++k) {
@@ -109,6 +110,7 @@ void SolePatchFoot::report(int foot, const multibody::Data& data, double dt,
     out.force += f;
     out.moment.x() += f.z() * x.x();
     out.moment.y() += f.z() * x.y();
+    out.torque += x.cross(f);
     // The deformed node's gap: the terrain's gap of the undeformed node plus U_n.
     double gap = contact::terrain_gap(stepper_->terrain(), x);
     gap += pad.displacement()[3 * k];
