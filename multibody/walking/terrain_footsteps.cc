@@ -112,8 +112,9 @@ Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
                                   rotation * Eigen::Vector3d(points(0, i), points(1, i), 0.0);
     gap[i] = point.z() - terrain.height(point.x(), point.y());
   }
-  placed.z -= gap.minCoeff();
-  gap.array() -= gap.minCoeff();
+  const double lowest = gap.minCoeff();
+  placed.z -= lowest;
+  gap.array() -= lowest;
   // The support: the facet's three points and any other on the ground; the ZMP target on it.
   const double on_ground = 1e-9 * std::max(1.0, std::abs(placed.z));
   SolePoints touching(2, n);

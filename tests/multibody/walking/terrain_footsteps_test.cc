@@ -226,19 +226,30 @@ TEST(TerrainFootsteps, WalkReferenceRealisesTiltedRaisedSoles) {
   }
 }
 
+/// A rough ground of RMS 5 mm, correlation length 10 cm (seed 1).
+plantar::contact::RoughTerrain rough_ground() {
+  plantar::contact::RoughTerrainParameters rough;
+  rough.rms = 0.005;
+  rough.correlation_length = 0.1;
+  return plantar::contact::RoughTerrain(rough);
+}
+
+/// A rigid sole's 8 outline points: corners and edge midpoints of the HRP-2 sole.
+SolePoints rigid_outline() {
+  SolePoints outline(2, 8);
+  outline << -0.5, 0, 0.5, 0.5, 0.5, 0, -0.5, -0.5, -0.5, -0.5, -0.5, 0, 0.5, 0.5, 0.5, 0;
+  outline.row(0) *= kLength;
+  outline.row(1) *= kWidth;
+  return outline;
+}
+
 TEST(TerrainFootsteps, RigidOutlineRestsOnThreePointsAroundItsCentre) {
   // The 8 points of a rigid sole's outline (corners and edge midpoints) on a rough ground: the
   // plane passes through three of them, the others are above the ground, and the centre's
   // triangle holds it. Checked against a dense search: no plane above all points is lower at
   // the centre (sampled slopes).
-  plantar::contact::RoughTerrainParameters rough;
-  rough.rms = 0.005;
-  rough.correlation_length = 0.1;
-  const plantar::contact::RoughTerrain ground(rough);
-  SolePoints outline(2, 8);
-  outline << -0.5, 0, 0.5, 0.5, 0.5, 0, -0.5, -0.5, -0.5, -0.5, -0.5, 0, 0.5, 0.5, 0.5, 0;
-  outline.row(0) *= kLength;
-  outline.row(1) *= kWidth;
+  const plantar::contact::RoughTerrain ground = rough_ground();
+  const SolePoints outline = rigid_outline();
   for (const double x : {0.0, 0.135, 0.27, 0.405}) {
     const Footstep step{x, -0.105, 0.2};
     const Footstep placed = place_on_terrain(ground, step, outline, 0.03);
@@ -306,14 +317,8 @@ TEST(TerrainFootsteps, PlanHoldsTheZmpOnEachSupport) {
   // The paper's walk placed on the rough ground by the rigid outline: in single support the ZMP
   // reference is the support sole's ZMP target R (zmp_x, zmp_y) + (x, y), and the plan's support
   // index names the placement each foot is on.
-  plantar::contact::RoughTerrainParameters rough;
-  rough.rms = 0.005;
-  rough.correlation_length = 0.1;
-  const plantar::contact::RoughTerrain ground(rough);
-  SolePoints outline(2, 8);
-  outline << -0.5, 0, 0.5, 0.5, 0.5, 0, -0.5, -0.5, -0.5, -0.5, -0.5, 0, 0.5, 0.5, 0.5, 0;
-  outline.row(0) *= kLength;
-  outline.row(1) *= kWidth;
+  const plantar::contact::RoughTerrain ground = rough_ground();
+  const SolePoints outline = rigid_outline();
   WalkingParameters walk;
   place_walk_on_terrain(ground, outline, 0.03, walk);
   const FootstepPlan plan = make_footstep_plan(walk);
