@@ -76,6 +76,7 @@ void ContactSolver::resize(int max_contacts, int rigid_rank, ContactSolverType t
   rigid_rank_ = rigid_rank;
   products_.resize(max_contacts, rigid_rank);
   sticking_.resize(max_contacts, rigid_rank);
+  rigid_sticking_.resize(max_contacts, rigid_rank);
   const auto needed = [type](ContactSolverType t) {
     return t == type || (type == ContactSolverType::automatic &&
                          (t == ContactSolverType::gauss_seidel || t == ContactSolverType::newton));
@@ -163,11 +164,17 @@ SolverResult ContactSolver::solve(const ContactProblem& problem, const SolverSet
   DirectAttempt attempt = DirectAttempt::not_tried;
   StartProducts start = StartProducts::build;
   if (settings.sticking_direct && settings.warm_start && problem.general.empty() && !compressed) {
-    result = sticking_.solve(problem, settings, impulses, products_);
+    bool rigid = true; // no contact on a compliant patch: W = G G^T
+    for (const CompliantPatch& patch : problem.patches)
+      rigid = rigid && patch.n_contacts == 0;
+    result = rigid ? rigid_sticking_.solve(problem, settings, impulses, products_)
+                   : sticking_.solve(problem, settings, impulses, products_);
     attempt = result.direct_attempt;
     if (attempt == DirectAttempt::accepted)
       return result;
-    if (attempt == DirectAttempt::refused_cone || attempt == DirectAttempt::refused_residual)
+    // StickingSolver's refused candidate is the start; RigidStickingSolver's is the warm start.
+    if (!rigid &&
+        (attempt == DirectAttempt::refused_cone || attempt == DirectAttempt::refused_residual))
       start = StartProducts::held;
   }
   result = iterative_[type]->solve(problem, settings, impulses, products_, start, history_);

@@ -3,7 +3,8 @@
 // solvers, each a class with its own workspace sized once for max_contacts:
 //  * StickingSolver (sticking_solver.h): the direct solve on the warm start's active set,
 //    tried first when settings.sticking_direct and settings.warm_start (not for a problem with
-//    a general W, ContactProblem::general);
+//    a general W, ContactProblem::general); RigidStickingSolver (rigid_sticking_solver.h)
+//    instead when no contact is on a compliant patch (W = G G^T);
 //  * an IterativeSolver (iterative_solver.h) picked by settings.solver: GaussSeidelSolver
 //    (gauss_seidel_solver.h), AdmmSolver (admm_solver.h), SemismoothNewtonSolver
 //    (semismooth_newton_solver.h) or AutoSolver (auto_solver.h: GS, then Newton), started from
@@ -21,6 +22,7 @@
 #include "contact/contact_problem.h"
 #include "contact/delassus_products.h"
 #include "contact/iterative_solver.h"
+#include "contact/rigid_sticking_solver.h"
 #include "contact/solver_settings.h"
 #include "contact/sticking_solver.h"
 
@@ -91,6 +93,7 @@ private:
   int rigid_rank_ = 0;
   DelassusProducts products_;
   StickingSolver sticking_;
+  RigidStickingSolver rigid_sticking_;
   // One per ContactSolverType, in the enum's order (make_iterative_solver()).
   std::vector<std::unique_ptr<IterativeSolver>> iterative_;
   std::vector<bool> sized_; // parallel to iterative_: workspace sized by the last resize()

@@ -55,7 +55,10 @@ struct SolverSettings {
   /// b e_n + W_AS p_S)_A by Woodbury over the kept Cholesky factors of the active sole blocks
   /// (updated node by node when the set changes); the result is kept when it lies in the cones and
   /// meets the tolerance (then it is an exact solution), else the iterative solver starts from
-  /// it, projected onto the cones.
+  /// it, projected onto the cones. A problem with no contact on a patch (W = G G^T, rigid
+  /// contacts) takes RigidStickingSolver instead (rigid_sticking_solver.h: the sticking
+  /// impulses nearest the warm start by a pseudo-inverse, with active-set rounds), whose refused
+  /// candidates are dropped (the iteration starts from the warm start).
   bool sticking_direct = true;
   /// ADMM: initial rho = rho_scale * mean diagonal of W. Range (0, inf).
   double rho_scale = 1.0;

@@ -19,7 +19,9 @@ gives the joint references (joints.csv); the MuJoCo model is generated from the 
 Then R rounds, each running Plantar (the scene as it is, with its ParaView frames every
 Output/VTK every steps and the .pvd collections rewritten at each frame), Plantar with the
 collections rewritten every 25 frames (Output/VTK collection every = 25), Plantar without
-ParaView frames (Output/Write VTU = false: the outputs MuJoCo's run has), MuJoCo (points) and
+ParaView frames (Output/Write VTU = false: the outputs MuJoCo's run has), the same without the
+direct solve on the warm start's active set (Contact/Sticking direct solve = false: the
+iterative solver alone), MuJoCo (points) and
 MuJoCo (box) one after the other, pinned to core C (taskset). Plantar's time is its summary's loop_wall_time / n_steps (the whole step: reference,
 stepper, CSV rows into memory, ParaView frames); MuJoCo's is its loop (mj_step and the same
 per-step records into memory); CSV files are written after both loops.
@@ -261,13 +263,17 @@ def main():
         for contacts in ("points", "box"):
             models[contacts] = out / f"{tag}_{contacts}.xml"
             models[contacts].write_text(generate_mjcf(prm, contacts))
-        times = {"plantar": [], "plantar_pvd25": [], "plantar_no_vtk": [], "points": [], "box": [],
+        times = {"plantar": [], "plantar_pvd25": [], "plantar_no_vtk": [], "plantar_iterative": [],
+                 "points": [], "box": [],
                  "reference": [],
                  "points_upright": [], "box_upright": []}
         figures = {}
         plantar_dir = out / f"{tag}_plantar"
         no_vtk = out / f"{tag}_no_vtk.prm"
         no_vtk.write_text(f"include {scene}\nsubsection Output\n  set Write VTU = false\nend\n")
+        iterative = out / f"{tag}_iterative.prm"
+        iterative.write_text(f"include {no_vtk}\nsubsection Contact\n  set Sticking direct solve = false\n"
+                             "end\n")
         pvd25 = out / f"{tag}_pvd25.prm"
         pvd25.write_text(f"include {scene}\nsubsection Output\n  set VTK collection every = 25\nend\n")
         for _ in range(args.repeat):
@@ -275,6 +281,8 @@ def main():
             times["plantar"].append(run_plantar(plantar, scene, plantar_dir, args.core))
             times["plantar_pvd25"].append(run_plantar(plantar, pvd25, out / f"{tag}_plantar_pvd25", args.core))
             times["plantar_no_vtk"].append(run_plantar(plantar, no_vtk, out / f"{tag}_plantar_no_vtk", args.core))
+            times["plantar_iterative"].append(run_plantar(plantar, iterative, out / f"{tag}_plantar_iterative",
+                                                          args.core))
             if args.plantar_reference:
                 times["reference"].append(run_plantar(args.plantar_reference.resolve(), scene,
                                                       out / f"{tag}_plantar_reference", args.core))
@@ -301,12 +309,14 @@ def main():
     text = []
     reference = " | Plantar, --plantar-reference" if args.plantar_reference else ""
     text.append("| scene | Plantar, 16 points | Plantar, .pvd every 25 frames | Plantar, no ParaView "
-                f"frames | MuJoCo, 16 points | MuJoCo, box feet{reference} |")
-    text.append("| --- | --- | --- | --- | --- | --- |" + (" --- |" if reference else ""))
+                "frames | Plantar, no frames, no direct solve | MuJoCo, 16 points | MuJoCo, box "
+                f"feet{reference} |")
+    text.append("| --- | --- | --- | --- | --- | --- | --- |" + (" --- |" if reference else ""))
     for r in rows:
         t = r["times"]
         text.append(f"| {r['label']} | {spread(t['plantar'])} | {spread(t['plantar_pvd25'])} | "
-                    f"{spread(t['plantar_no_vtk'])} | {spread(t['points'])} | {spread(t['box'])} |" +
+                    f"{spread(t['plantar_no_vtk'])} | {spread(t['plantar_iterative'])} | "
+                    f"{spread(t['points'])} | {spread(t['box'])} |" +
                     (f" {spread(t['reference'])} |" if reference else ""))
     text.append("")
     text.append("us per step, median [min, max] of %d alternating runs on core %d." % (args.repeat, args.core))

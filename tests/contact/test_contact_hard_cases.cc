@@ -96,10 +96,11 @@ TEST(HardCases, HeavyBoxOnLightBox) {
   const double dt = 1e-3;
   const Eigen::Vector3d size(0.2, 0.2, 0.2);
   struct Outcome {
-    int n_unconverged = 0;
+    int n_unconverged = 0, n_direct = 0;
     double worst_residual = 0.0, worst_penetration = 0.0, mean_iterations = 0.0;
-  } outcome[3];
-  for (int s = 0; s < 3; ++s) {
+  } outcome[4];
+  const int n_steps = 500;
+  for (int s = 0; s < 4; ++s) { // GS, ADMM, auto; auto after the direct solve
     RigidWorld world;
     add_box(world, 1.0, size, 0.1, 2, -1, 0.0, 0.5);
     add_box(world, 1000.0, size, 0.3, 2, 0, 0.1, 0.5);
@@ -108,22 +109,24 @@ TEST(HardCases, HeavyBoxOnLightBox) {
                                      : pc::ContactSolverType::automatic;
     world.settings.tolerance = 1e-8;
     world.settings.max_iterations = 200;
+    world.settings.sticking_direct = s == 3; // else the iterative solvers themselves
     world.finalize();
-    const int n_steps = 500;
     for (int i = 0; i < n_steps; ++i) {
       const pc::SolverResult r = world.step(dt);
       outcome[s].n_unconverged += !r.converged();
+      outcome[s].n_direct += r.direct;
       outcome[s].worst_residual = std::max(outcome[s].worst_residual, r.residual);
       outcome[s].mean_iterations += double(r.iterations) / n_steps;
       for (int c = 0; c < static_cast<int>(world.contacts.size()); ++c) {
         outcome[s].worst_penetration = std::max(outcome[s].worst_penetration, -world.gap(c));
       }
     }
-    std::printf("heavy on light, %s (max 200 iterations, tol 1e-8 m/s): %d/%d steps unconverged, "
-                "worst residual %.2e m/s, mean iterations %.1f, worst penetration %.2e m\n",
-                pc::to_string(world.settings.solver), outcome[s].n_unconverged, n_steps,
-                outcome[s].worst_residual, outcome[s].mean_iterations,
-                outcome[s].worst_penetration);
+    std::printf("heavy on light, %s%s (max 200 iterations, tol 1e-8 m/s): %d/%d steps "
+                "unconverged, %d direct, worst residual %.2e m/s, mean iterations %.1f, worst "
+                "penetration %.2e m\n",
+                pc::to_string(world.settings.solver), s == 3 ? " after the direct solve" : "",
+                outcome[s].n_unconverged, n_steps, outcome[s].n_direct, outcome[s].worst_residual,
+                outcome[s].mean_iterations, outcome[s].worst_penetration);
   }
   // ADMM holds: every step converged, penetration bounded (under 1e-6 m).
   EXPECT_EQ(outcome[1].n_unconverged, 0);
@@ -135,6 +138,11 @@ TEST(HardCases, HeavyBoxOnLightBox) {
   // Auto (GS, then Newton when GS slows down) holds like ADMM.
   EXPECT_EQ(outcome[2].n_unconverged, 0);
   EXPECT_LE(outcome[2].worst_penetration, 1e-6);
+  // The direct solve on the warm start's active set (rigid_sticking_solver.h) takes the resting
+  // stack: every step converged, all but the first few without an iteration.
+  EXPECT_EQ(outcome[3].n_unconverged, 0);
+  EXPECT_LE(outcome[3].worst_penetration, 1e-6);
+  EXPECT_GE(outcome[3].n_direct, n_steps - 5);
 }
 
 TEST(HardCases, PainleveRod) {

@@ -8,6 +8,7 @@
 #include "tests/contact/random_problem.h"
 #include "tests/contact/sticking_problem.h"
 
+#include <cmath>
 #include <cstdio>
 #include <gtest/gtest.h>
 
@@ -134,6 +135,56 @@ TEST(ContactNoMalloc, StickingDirectSolveDoesNotAllocate) {
     std::printf("sticking, contact %d outside: direct %d, %d sweeps, residual %.2e\n", outside,
                 r.direct, r.iterations, r.residual);
     EXPECT_EQ(r.direct, outside < 0);
+    EXPECT_TRUE(r.converged());
+  }
+}
+
+TEST(ContactNoMalloc, RigidStickingDirectSolveDoesNotAllocate) {
+  // 16 rigid contacts of rank 12 (two feet): the direct solve under the guard.
+  // Two feet of 8 outline points each: G_k = [I, -[r_k]x] of its foot times a mass factor.
+  const int n = 16, m = 12;
+  pc::ContactProblem problem;
+  problem.resize(n, m);
+  problem.n_contacts = n;
+  Eigen::MatrixXd lever = Eigen::MatrixXd::Zero(3 * n, m);
+  for (int k = 0; k < n; ++k) {
+    const int foot = k / 8, corner = k % 8;
+    const Eigen::Vector3d r(0.11 * std::cos(0.785 * corner), 0.07 * std::sin(0.785 * corner), 0.0);
+    Eigen::Matrix3d skew;
+    skew << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+    Eigen::Matrix3d frame; // rows n = z, t1 = x, t2 = y of the world
+    frame << 0, 0, 1, 1, 0, 0, 0, 1, 0;
+    lever.block<3, 3>(3 * k, 6 * foot) = frame;
+    lever.block<3, 3>(3 * k, 6 * foot + 3) = -frame * skew;
+    problem.free_velocity.segment<3>(3 * k) = Eigen::Vector3d(-0.01, 0.0, 0.0);
+    problem.friction[k] = 0.8;
+  }
+  Eigen::MatrixXd mass_factor = Eigen::MatrixXd::Identity(m, m);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < i; ++j)
+      mass_factor(i, j) = 0.05 * std::sin(1.3 * i + 0.7 * j);
+  problem.rigid_factor = lever * mass_factor;
+  pc::ContactSolver solver(n, m);
+  pc::SolverSettings settings;
+  settings.solver = pc::ContactSolverType::automatic;
+  settings.max_iterations = 3000;
+  Eigen::VectorXd impulses = Eigen::VectorXd::Zero(3 * n);
+  ASSERT_TRUE(solver.solve(problem, settings, impulses).converged());
+  // Scaled v_free from the converged warm start, then no warm start: both taken directly; a
+  // sideways kick at one contact then takes the refusing rounds (held, pulled, closing).
+  for (const int variant : {0, 1, 2}) {
+    problem.free_velocity.head(3 * n) *= 1.01;
+    if (variant == 1)
+      impulses.setZero();
+    if (variant == 2)
+      problem.free_velocity[4] += 0.02;
+    Eigen::internal::set_is_malloc_allowed(false);
+    const pc::SolverResult r = solver.solve(problem, settings, impulses);
+    Eigen::internal::set_is_malloc_allowed(true);
+    std::printf("rigid, variant %d: direct %s, %d iterations, residual %.2e\n", variant,
+                pc::to_string(r.direct_attempt), r.iterations, r.residual);
+    if (variant < 2)
+      EXPECT_TRUE(r.direct);
     EXPECT_TRUE(r.converged());
   }
 }
