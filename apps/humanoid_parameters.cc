@@ -373,10 +373,12 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Max iterations", "500", Integer(1), "Solver iterations per step.");
   prm.declare_entry("Sticking direct solve", "true", Bool(),
                     "Before iterating, solve the sticking system of the warm start's contact "
-                    "set directly (sole nodes sticking, sliding ones held, separated ones "
-                    "free; Woodbury over the factorised sole blocks) and keep it if every "
-                    "impulse is in its cone and the residual meets the tolerance (an exact "
-                    "solution); else iterate from it.");
+                    "set directly and keep it if every impulse is in its cone and the "
+                    "residual meets the tolerance (an exact solution); else iterate. Soles: "
+                    "sliding nodes held, Woodbury over the factorised sole blocks, iterate "
+                    "from the candidate. Rigid contacts (rigid feet, compliant ankles): the "
+                    "impulses nearest the warm start by a pseudo-inverse, with active-set "
+                    "rounds; iterate from the warm start (docs/contact.md).");
   prm.declare_entry("Sweep skip fraction", "0", Double(0, 1),
                     "Gauss-Seidel: a contact whose residual at its turn is at most this "
                     "fraction of the tolerance is left as it is for that sweep (no local "
