@@ -1,6 +1,8 @@
 // Direct solve on the warm start's active set for rigid contacts (rigid_sticking_solver.h).
 #include "contact/rigid_sticking_solver.h"
 
+#include "contact/semidefinite_cholesky.h"
+
 #include <Eigen/Cholesky>
 #include <cmath>
 
@@ -10,24 +12,16 @@ namespace {
 constexpr int kMaxRounds = 16; // active sets tried in one solve
 constexpr int kMaxPulls = 2;   // a contact pulled this often is not re-added by closing
 
-// The semi-definite Cholesky factor of the symmetric @p a (s x s, its lower triangle; overwritten)
-// column by column as the stepper's reduced rigid factor: a pivot at or below 1e-10 of the
-// largest diagonal entry marks a dependent column. Its k nonzero columns go to the first k
-// columns of @p out (s x s). Returns k.
+// The nonzero columns of the semi-definite Cholesky factor of @p a (s x s, overwritten; pivots
+// at or below 1e-10 of the largest diagonal entry dropped) into the first k columns of @p out
+// (s x s). Returns k.
 int semidefinite_columns(Eigen::Ref<Eigen::MatrixXd> a, Eigen::Ref<Eigen::MatrixXd> out) {
+  semidefinite_cholesky(a, 1e-10);
   const int s = static_cast<int>(a.rows());
-  const double largest = s > 0 ? a.diagonal().maxCoeff() : 0.0;
   int k = 0;
   for (int j = 0; j < s; ++j) {
-    double d = a(j, j) - a.row(j).head(j).squaredNorm();
-    if (!(d > 1e-10 * largest)) {
-      a.col(j).tail(s - j).setZero();
+    if (a(j, j) == 0.0)
       continue;
-    }
-    d = std::sqrt(d);
-    a(j, j) = d;
-    for (int i = j + 1; i < s; ++i)
-      a(i, j) = (a(i, j) - a.row(i).head(j).dot(a.row(j).head(j))) / d;
     out.col(k).head(j).setZero();
     out.col(k).tail(s - j) = a.col(j).tail(s - j);
     ++k;

@@ -3,6 +3,7 @@
 #include "contact/compliance_terms.h"
 #include "contact/flat_terrain.h"
 #include "contact/ground_frame.h"
+#include "contact/semidefinite_cholesky.h"
 #include "multibody/configuration.h"
 #include "multibody/crba.h"
 #include "multibody/jacobian.h"
@@ -306,19 +307,7 @@ void Stepper::reduce_rigid_factor() {
       gram.block<6, 6>(6 * i, 6 * j) = block;
     }
   }
-  const double largest = gram.diagonal().maxCoeff();
-  for (int j = 0; j < size; ++j) {
-    double d = gram(j, j) - gram.row(j).head(j).squaredNorm();
-    if (!(d > 1e-13 * largest)) {
-      gram.col(j).tail(size - j).setZero();
-      continue;
-    }
-    d = std::sqrt(d);
-    gram(j, j) = d;
-    for (int i = j + 1; i < size; ++i) {
-      gram(i, j) = (gram(i, j) - gram.row(i).head(j).dot(gram.row(j).head(j))) / d;
-    }
-  }
+  contact::semidefinite_cholesky(gram, 1e-13);
   for (int i = 0; i < r; ++i) {
     Eigen::Matrix<double, 6, Eigen::Dynamic>& z = slot_reduced_[reduced_slots_[i]];
     z.setZero();
