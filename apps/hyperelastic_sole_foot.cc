@@ -4,6 +4,7 @@
 #include "coupling/nonlinear_condensed_sole.h"
 #include "fem/field_output.h"
 #include "fem/hyperelastic_material_table.h"
+#include "fem/visco_hyperelastic_fields.h"
 
 #include <stdexcept>
 
@@ -166,12 +167,24 @@ void HyperelasticSoleFoot::summarize(HumanoidSummary& summary) const {
   summary.sole_tolerated_error =
       std::max(soles_[0]->max_tolerated_error(), soles_[1]->max_tolerated_error());
   summary.sole_recondensation_tolerance = soles_[0]->parameters().sole.recondensation_tolerance;
-  if (viscous_) { // work of the contact forces minus the base law's stored energy
-    double absorbed = 0;
+  if (viscous_) { // the dashpots' dissipation, integrated at the Newton checks
+    double dissipated = 0;
     for (const auto& sole : soles_)
-      absorbed += sole->work() - sole->stored_base_energy();
-    summary.sole_dissipated_energy = absorbed;
+      dissipated += fem::dissipated_energy(sole->sole().elasticity());
+    summary.sole_dissipated_energy = dissipated;
   }
+}
+
+std::vector<PadCellField> HyperelasticSoleFoot::cell_fields(int foot) const {
+  std::vector<PadCellField> out;
+  if (!viscous_)
+    return out;
+  fem::ViscoelasticCellFields fields =
+      fem::visco_hyperelastic_cell_fields(soles_[foot]->sole().elasticity());
+  out.push_back({"dissipated_energy_density", std::move(fields.dissipated_energy_density)});
+  for (std::size_t i = 0; i < fields.overstress.size(); ++i)
+    out.push_back({"overstress_" + std::to_string(i + 1), std::move(fields.overstress[i])});
+  return out;
 }
 
 SolePatchFoot::SoleMesh HyperelasticSoleFoot::sole_mesh(int foot) const {

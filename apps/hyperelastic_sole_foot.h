@@ -10,8 +10,9 @@
 // fem/visco_hyperelastic_law.h): the soles' internal variables advance with the time loop
 // (coupling/nonlinear_condensed_sole.h: Newton checks on force change and on creep, the offset
 // d following the creep between them); Sole/Damping time must then be 0. The summary's
-// sole_dissipated_energy is then, for both feet, the work of the contact forces on the sole
-// minus the base law's stored energy int W(F) dV (dissipated plus still held by the branches).
+// sole_dissipated_energy is then the dashpots' dissipation of both feet
+// (ViscoHyperelasticLaw::commit, integrated over the intervals between Newton checks), and the
+// .vtu series gains per cell dissipated_energy_density (J/m^3) and overstress_<i> (|Q_i|, Pa).
 
 #include "apps/sole_patch_foot.h"
 
@@ -49,6 +50,8 @@ protected:
   displacement_field(int foot, const Eigen::VectorXd& contact_u,
                      dealii::Vector<double>& workspace) const override;
   std::unique_ptr<dealii::DataPostprocessor<3>> stress_postprocessor(int foot) const override;
+  /// Viscous soles: dissipated_energy_density and overstress_<i> per cell (none otherwise).
+  std::vector<PadCellField> cell_fields(int foot) const override;
 
 private:
   double thickness_ = 0;

@@ -1,5 +1,7 @@
 #include "fem/visco_hyperelastic_history.h"
 
+#include <algorithm>
+
 namespace plantar::fem {
 
 ViscoHyperelasticHistory::ViscoHyperelasticHistory(const dealii::Triangulation<3>& triangulation,
@@ -24,6 +26,7 @@ ViscoHyperelasticHistory::ViscoHyperelasticHistory(const dealii::Triangulation<3
   isochoric_.assign(n_points, {});
   trial_.assign(n_points, {});
   overstress_.assign(n_overstress, {});
+  dissipation_.assign(n_points, 0.0);
 }
 
 void ViscoHyperelasticHistory::evaluate(unsigned int cell, unsigned int q,
@@ -44,8 +47,8 @@ void ViscoHyperelasticHistory::commit(double dt) {
     const unsigned int n_b = laws_[c]->n_branches();
     for (unsigned int q = 0; q < n_q_; ++q) {
       const unsigned int point = point_offset_[c] + q;
-      laws_[c]->commit(dt, isochoric_[point], trial_[point],
-                       overstress_.data() + overstress_offset_[c] + q * n_b);
+      dissipation_[point] += laws_[c]->commit(dt, isochoric_[point], trial_[point],
+                                              overstress_.data() + overstress_offset_[c] + q * n_b);
       isochoric_[point] = trial_[point];
     }
   }
@@ -55,6 +58,7 @@ void ViscoHyperelasticHistory::reset() {
   for (auto* v : {&isochoric_, &trial_, &overstress_})
     for (auto& t : *v)
       t = 0;
+  std::fill(dissipation_.begin(), dissipation_.end(), 0.0);
 }
 
 dealii::SymmetricTensor<2, 3> ViscoHyperelasticHistory::total_overstress(unsigned int cell,

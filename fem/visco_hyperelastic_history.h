@@ -33,7 +33,8 @@ public:
                 bool include_volumetric, double dt, StressTangent& out);
 
   /// Advances every viscous point by the step @p dt (s) to its latest trial state:
-  /// Q_i <- e_i Q_i + beta_i gamma_i (S_iso_trial - S_iso), S_iso <- S_iso_trial.
+  /// Q_i <- e_i Q_i + beta_i gamma_i (S_iso_trial - S_iso), S_iso <- S_iso_trial, and adds the
+  /// step's dissipation (ViscoHyperelasticLaw::commit) to each point's.
   void commit(double dt);
   /// Back to the virgin state (all zero).
   void reset();
@@ -43,6 +44,20 @@ public:
     return isochoric_[point_offset_[cell] + q];
   }
   dealii::SymmetricTensor<2, 3> total_overstress(unsigned int cell, unsigned int q) const;
+  /// Committed Q_i^n (Pa) of branch @p i at point @p q of viscous cell @p cell.
+  const dealii::SymmetricTensor<2, 3>& overstress(unsigned int cell, unsigned int q,
+                                                  unsigned int i) const {
+    return overstress_[overstress_offset_[cell] + q * laws_[cell]->n_branches() + i];
+  }
+  /// Number of branches of cell @p cell's law (0 for an elastic cell).
+  unsigned int n_branches(unsigned int cell) const {
+    return laws_[cell] != nullptr ? laws_[cell]->n_branches() : 0;
+  }
+  /// Energy the dashpots dissipated at point @p q of viscous cell @p cell since the virgin
+  /// state, per unit reference volume (J/m^3).
+  double dissipated_energy_density(unsigned int cell, unsigned int q) const {
+    return dissipation_[point_offset_[cell] + q];
+  }
 
 private:
   unsigned int n_q_;
@@ -50,6 +65,7 @@ private:
   std::vector<unsigned int> point_offset_;        // per cell, into isochoric_, trial_
   std::vector<unsigned int> overstress_offset_;   // per cell, into overstress_
   std::vector<dealii::SymmetricTensor<2, 3>> isochoric_, trial_, overstress_;
+  std::vector<double> dissipation_; // per point, J/m^3
 };
 
 } // namespace plantar::fem

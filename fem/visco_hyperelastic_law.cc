@@ -1,5 +1,7 @@
 #include "fem/visco_hyperelastic_law.h"
 
+#include "fem/viscoelastic_material.h"
+
 #include <cctype>
 #include <cmath>
 #include <map>
@@ -104,16 +106,28 @@ void ViscoHyperelasticLaw::evaluate(const dealii::Tensor<2, 3>& F, bool include_
   out.first_piola += F * dealii::Tensor<2, 3>(Q);
 }
 
-void ViscoHyperelasticLaw::commit(double dt,
-                                  const dealii::SymmetricTensor<2, 3>& isochoric_stress_old,
-                                  const dealii::SymmetricTensor<2, 3>& isochoric_stress_new,
-                                  dealii::SymmetricTensor<2, 3>* overstress) const {
+double ViscoHyperelasticLaw::commit(double dt,
+                                    const dealii::SymmetricTensor<2, 3>& isochoric_stress_old,
+                                    const dealii::SymmetricTensor<2, 3>& isochoric_stress_new,
+                                    dealii::SymmetricTensor<2, 3>* overstress) const {
+  const dealii::SymmetricTensor<2, 3> change = isochoric_stress_new - isochoric_stress_old;
+  const double two_mu = 2.0 * base_->small_strain_shear_modulus();
+  double dissipation = 0;
   for (unsigned int i = 0; i < n_branches(); ++i) {
+    const double beta = branches_[i].beta;
     double decay = 0, gamma = 0;
     step_factors(i, dt, decay, gamma);
-    overstress[i] = decay * overstress[i] +
-                    branches_[i].beta * gamma * (isochoric_stress_new - isochoric_stress_old);
+    if (beta > 0) { // Q(s) = a E + c (1 - E) / x with a = Q_i^n, c = beta_i dS_iso
+      double w_aa = 0, w_ac = 0, w_cc = 0;
+      ViscoelasticMaterial::dissipation_weights(dt / branches_[i].relaxation_time, w_aa, w_ac,
+                                                w_cc);
+      const dealii::SymmetricTensor<2, 3>& a = overstress[i];
+      dissipation +=
+          (w_aa * (a * a) / beta + w_ac * (a * change) + w_cc * beta * (change * change)) / two_mu;
+    }
+    overstress[i] = decay * overstress[i] + beta * gamma * change;
   }
+  return dissipation;
 }
 
 std::vector<ViscousBranchSpec> split_viscous_branches(const MaterialSpec& spec,

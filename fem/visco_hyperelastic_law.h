@@ -82,10 +82,16 @@ public:
                 dealii::SymmetricTensor<2, 3>& isochoric_stress) const;
 
   /// Q_i^{n+1} = e_i Q_i^n + beta_i gamma_i (S_iso^{n+1} - S_iso^n) for every branch, in place
-  /// on @p overstress (n_branches tensors, Pa).
-  void commit(double dt, const dealii::SymmetricTensor<2, 3>& isochoric_stress_old,
-              const dealii::SymmetricTensor<2, 3>& isochoric_stress_new,
-              dealii::SymmetricTensor<2, 3>* overstress) const;
+  /// on @p overstress (n_branches tensors, Pa). Returns the energy the dashpots dissipated over
+  /// the step per unit reference volume (J/m^3),
+  ///   sum_i int_0^dt Q_i : Q_i / (2 beta_i mu tau_i) ds,
+  /// mu the base law's small-strain shear modulus, integrated in closed form for S_iso linear in
+  /// time (ViscoelasticMaterial::dissipation_weights): the linear Prony law's dissipation
+  /// h_i : C_i^-1 : h_i / tau_i with G_i = beta_i mu, K_i = 0, so exact at small strain; at
+  /// finite strain the same measure of the overstresses (not a derived dissipation inequality).
+  double commit(double dt, const dealii::SymmetricTensor<2, 3>& isochoric_stress_old,
+                const dealii::SymmetricTensor<2, 3>& isochoric_stress_new,
+                dealii::SymmetricTensor<2, 3>* overstress) const;
 
 private:
   std::shared_ptr<const HyperelasticLaw> base_;

@@ -32,15 +32,6 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Integrals over one step, x = dt / tau, of E = exp(-s/tau) (s/tau from 0 to x):
-/// int E^2, int E (1 - E), int (1 - E)^2, the last by its series for small x (cancellation).
-void step_integrals(double x, double& ee, double& e_one, double& one_one) {
-  ee = -0.5 * std::expm1(-2.0 * x);
-  e_one = -std::expm1(-x) + 0.5 * std::expm1(-2.0 * x);
-  one_one = x < 1e-2 ? x * x * x * (1.0 / 3.0 - x * (0.25 - x * (7.0 / 60.0 - x / 24.0)))
-                     : x + 2.0 * std::expm1(-x) - 0.5 * std::expm1(-2.0 * x);
-}
-
 } // namespace
 
 void ViscoelasticCondensationParameters::validate() const {
@@ -194,11 +185,11 @@ ViscoelasticCondensation::ViscoelasticCondensation(
       region.effective_shear += gamma * branch.shear_modulus;
       region.effective_bulk += gamma * branch.bulk_modulus;
       const double x = dt / branch.relaxation_time;
-      double ee = 0, e_one = 0, one_one = 0;
-      step_integrals(x, ee, e_one, one_one);
-      region.w_aa.push_back(ee);
-      region.w_ac.push_back(2.0 * e_one / x);
-      region.w_cc.push_back(one_one / (x * x));
+      double w_aa = 0, w_ac = 0, w_cc = 0;
+      ViscoelasticMaterial::dissipation_weights(x, w_aa, w_ac, w_cc);
+      region.w_aa.push_back(w_aa);
+      region.w_ac.push_back(w_ac);
+      region.w_cc.push_back(w_cc);
     }
     regions_.emplace(id, std::move(region));
   }

@@ -37,6 +37,7 @@
 // each cell's quadratic form).
 
 #include "fem/discretization.h"
+#include "fem/viscoelastic_cell_fields.h"
 #include "fem/viscoelastic_material.h"
 
 #include <deal.II/base/point.h>
@@ -63,17 +64,6 @@ struct ViscoelasticCondensationParameters {
   bool cell_dissipation = true;
   /// Throws std::invalid_argument naming the field, its value and the range.
   void validate() const;
-};
-
-/// Per active cell (indexed by active_cell_index()), for output: written with the sole's .vtu.
-struct ViscoelasticCellFields {
-  /// Energy dissipated in the cell since rest, per unit (undeformed) volume, J/m^3.
-  std::vector<double> dissipated_energy_density;
-  /// Von Mises stress of the cell-mean stress sigma^n = C_inf : eps^n + sum_i h_i^n, Pa.
-  std::vector<double> von_mises;
-  /// overstress[i][cell]: cell mean of |h_i| (Frobenius norm of branch i's overstress, Pa);
-  /// 0 in regions with fewer than i + 1 branches. One entry per branch of the richest region.
-  std::vector<std::vector<double>> overstress;
 };
 
 /// Wall-clock seconds of the last advance() and of the set-up.

@@ -191,6 +191,17 @@ void ViscoelasticMaterial::step_factors(double dt, double tau, double& decay, do
   gamma = -std::expm1(-x) / x; // (1 - e^-x) / x, accurate as x -> 0
 }
 
+void ViscoelasticMaterial::dissipation_weights(double x, double& w_aa, double& w_ac, double& w_cc) {
+  // int_0^x E^2, 2 int E (1 - E) / x and int (1 - E)^2 / x^2 (E = exp(-s)), the last by its
+  // series for small x (cancellation).
+  w_aa = -0.5 * std::expm1(-2.0 * x);
+  w_ac = 2.0 * (-std::expm1(-x) + 0.5 * std::expm1(-2.0 * x)) / x;
+  const double one_one = x < 1e-2
+                             ? x * x * x * (1.0 / 3.0 - x * (0.25 - x * (7.0 / 60.0 - x / 24.0)))
+                             : x + 2.0 * std::expm1(-x) - 0.5 * std::expm1(-2.0 * x);
+  w_cc = one_one / (x * x);
+}
+
 ViscoelasticMaterialTable::ViscoelasticMaterialTable(
     const std::map<std::string, MaterialSpec>& specs, const PhysicalGroups& groups) {
   for (const auto& [name, spec] : specs) {

@@ -82,6 +82,13 @@ public:
   /// dt/tau (expm1). dt > 0, tau > 0 (s).
   static void step_factors(double dt, double tau, double& decay, double& gamma);
 
+  /// Weights of a branch's dissipation over one step of x = dt / tau (> 0): for the overstress
+  /// h(s) = a E + c (1 - E) / x, E = exp(-s/tau) (the recursive update's, exact for a strain
+  /// linear in time over the step), int_0^dt h : C_i^-1 : h / tau ds = w_aa m(a, a) +
+  /// w_ac m(a, c) + w_cc m(c, c), m(x, y) = x : C_i^-1 : y. Dimensionless; no cancellation for
+  /// small x.
+  static void dissipation_weights(double x, double& w_aa, double& w_ac, double& w_cc);
+
 private:
   std::string name_;
   double shear_modulus_, bulk_modulus_;
