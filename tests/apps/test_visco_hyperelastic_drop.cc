@@ -85,6 +85,14 @@ const HyperelasticSoleFoot& hyperelastic_feet(const HumanoidSimulation& simulati
   return dynamic_cast<const HyperelasticSoleFoot&>(simulation.foot_model());
 }
 
+/// What both soles absorbed (J): the contact forces' work minus the base law's stored energy.
+double absorbed_energy(const HyperelasticSoleFoot& feet) {
+  double absorbed = 0;
+  for (int foot = 0; foot < 2; ++foot)
+    absorbed += feet.sole(foot).work() - feet.sole(foot).stored_base_energy();
+  return absorbed;
+}
+
 TEST(ViscoHyperelasticDrop, ZeroBranchIsTheElasticSole) {
   HumanoidSimulation elastic(drop_scene("hyperelastic", "rubber: law=neo_hookean, E=4e6, nu=0.3"));
   elastic.run();
@@ -178,9 +186,7 @@ TEST(ViscoHyperelasticDrop, BranchesDissipate) {
     simulation.run();
     const auto& feet = hyperelastic_feet(simulation);
     ringing[i] = waist_ringing(simulation.waist_series(), 0.1);
-    absorbed[i] = 0;
-    for (int foot = 0; foot < 2; ++foot)
-      absorbed[i] += feet.sole(foot).work() - feet.sole(foot).stored_base_energy();
+    absorbed[i] = absorbed_energy(feet);
     dissipated[i] = simulation.summary().sole_dissipated_energy;
     std::printf("%s: waist vz rms after 0.1 s %.4e m/s, peak |a_z| %.3f m/s^2, work %.4e J, "
                 "absorbed %.4e J, dissipated %.4e J, %d checks (%d on time), %d "
@@ -272,10 +278,7 @@ TEST(ViscoHyperelasticDrop, SmallStrainMatchesTheLinearPronySole) {
                                linear.summary().sole_dissipated_energy;
     // The balance work - stored of the finite sole (the branches have relaxed: 25 tau) is the
     // coarser figure: its work is a trapezoid over the Newton checks.
-    const auto& feet = hyperelastic_feet(finite);
-    double absorbed = 0;
-    for (int foot = 0; foot < 2; ++foot)
-      absorbed += feet.sole(foot).work() - feet.sole(foot).stored_base_energy();
+    const double absorbed = absorbed_energy(hyperelastic_feet(finite));
     const double balance = std::abs(finite.summary().sole_dissipated_energy - absorbed) / absorbed;
     std::printf("E = %.0e Pa: dissipated energy against the linear sole's %.3e, against work - "
                 "stored %.3e (relative)\n",
