@@ -108,11 +108,14 @@ public:
     Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
     const double yaw = right.yaw + 0.5 * std::remainder(left.yaw - right.yaw, 2.0 * M_PI);
     base.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    // First guess: the base as far above the CoM target as it is above the posture's CoM.
+    // First guess: the base as far above the CoM target as it is above the posture's CoM. The
+    // CoM stands over the mean of the soles' ZMP targets, where the walk's ZMP reference starts
+    // (the sole centres on flat ground).
     const double com_above_base = centre_of_mass(base, humanoid_.posture).z();
     const double ground = 0.5 * (right.z + left.z);
-    base.translation() = Eigen::Vector3d(0.5 * (right.x + left.x), 0.5 * (right.y + left.y),
-                                         ground + posture_.com_height - com_above_base);
+    const Eigen::Vector2d centre = 0.5 * (zmp_target(right) + zmp_target(left));
+    base.translation() =
+        Eigen::Vector3d(centre.x(), centre.y(), ground + posture_.com_height - com_above_base);
     const Eigen::Vector3d target(base.translation().x(), base.translation().y(),
                                  ground + posture_.com_height);
     com = place_base(base, target, true, sole_pose(right), sole_pose(left), 0.0, q);
