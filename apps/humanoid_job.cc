@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -47,6 +48,11 @@ HumanoidSummary run_humanoid(const Scene& scene, const std::filesystem::path& ou
     progress.finish();
     if (scene.output.write_csv)
       simulation.write_csv(output / "failed");
+    if (const std::string& problem = simulation.failed_contact_problem(); !problem.empty()) {
+      std::filesystem::create_directories(output / "failed");
+      fem::write_file_atomically(output / "failed" / "contact_problem.dat",
+                                 [&problem](std::ostream& os) { os << problem; });
+    }
     throw;
   }
   if (vtk)

@@ -3,6 +3,7 @@
 #include "apps/contact_solver_name.h"
 #include "apps/scene_reference.h"
 #include "apps/solver_advice.h"
+#include "contact/siconos_writer.h"
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
 #include "multibody/walking/walking_reference.h"
@@ -367,7 +368,11 @@ void HumanoidSimulation::step() {
         msg << "), residual " << solve.residual << " m/s > Contact/Failure residual "
             << settings.failure_residual << " m/s, " << report.n_contacts << " contacts; "
             << solver_advice({solve, settings.solver, settings.tolerance, settings.max_iterations,
-                              dt, summary_.foot_stiffness, summary_.robot_mass});
+                              dt, summary_.foot_stiffness, summary_.robot_mass})
+            << " (the problem is written as failed/contact_problem.dat, Siconos numerics' format)";
+        std::ostringstream problem;
+        contact::write_siconos_problem(stepper_->problem(), problem);
+        failed_contact_problem_ = problem.str();
         fail(msg.str());
       }
     }

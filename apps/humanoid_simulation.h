@@ -80,6 +80,9 @@ public:
   const TimeSeries& contact_series() const { return contacts_; }
   /// The contact solves that stopped above Contact/Tolerance, in step order.
   const UnconvergedSolves& unconverged_solves() const { return unconverged_; }
+  /// The contact problem of a solve that stopped the run (Contact/Failure residual), in Siconos
+  /// numerics' text format (contact/siconos_writer.h); empty when none did.
+  const std::string& failed_contact_problem() const { return failed_contact_problem_; }
   /// The landings of the right (0) and left (1) foot so far (a window still open at the end
   /// of run() is closed there).
   const std::vector<Landing>& landings(int foot) const { return landings_[foot].landings(); }
@@ -157,6 +160,7 @@ private:
   TimeSeries waist_, joints_, contacts_;
   TimeSeries balance_series_; ///< Stabilizer = dcm only (balance.csv)
   UnconvergedSolves unconverged_;
+  std::string failed_contact_problem_;
   HumanoidSummary summary_;
 };
 

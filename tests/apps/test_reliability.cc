@@ -191,6 +191,32 @@ TEST(Reliability, StiffSoleLargeStepSuggestsASettingThatWorks) {
     } catch (const std::runtime_error& e) {
       what = e.what();
     }
+    // The failed solve's problem, as written for replay (contact/siconos_writer.h): 3, n, the
+    // dense W's header, its 9 n^2 entries, q = v_free + b e_n and mu, exactly the stepper's.
+    std::istringstream text(sim.failed_contact_problem());
+    std::vector<double> numbers;
+    for (double x; text >> x;)
+      numbers.push_back(x);
+    const contact::ContactProblem& problem = sim.stepper().problem();
+    const int n = problem.n_contacts;
+    ASSERT_GT(n, 0);
+    ASSERT_EQ(numbers.size(), static_cast<std::size_t>(7 + 9 * n * n + 4 * n));
+    EXPECT_EQ(numbers[1], n);
+    EXPECT_NE(what.find(", " + std::to_string(n) + " contacts"), std::string::npos) << what;
+    Eigen::MatrixXd w;
+    problem.assemble_delassus(w);
+    double worst = 0;
+    for (int j = 0; j < 3 * n; ++j)
+      for (int i = 0; i < 3 * n; ++i)
+        worst = std::max(worst, std::abs(numbers[7 + 3 * n * j + i] - w(i, j)));
+    for (int k = 0; k < n; ++k) {
+      const double q_n = numbers[7 + 9 * n * n + 3 * k];
+      worst =
+          std::max(worst, std::abs(q_n - (problem.free_velocity[3 * k] + problem.normal_bias[k])));
+      worst = std::max(worst, std::abs(numbers[7 + 9 * n * n + 3 * n + k] - problem.friction[k]));
+    }
+    std::printf("failed solve written: %d contacts, largest difference %.1e\n", n, worst);
+    EXPECT_EQ(worst, 0.0);
   }
   std::printf("E = 1e12 Pa, dt = 10 ms, admm: %s\n", what.c_str());
   ASSERT_FALSE(what.empty()) << "the ADMM run did not stop";

@@ -1,9 +1,14 @@
 // The Siconos-format reader (siconos_format.h) against Siconos's own reader, and the
 // independent error measure against fc3d_compute_error, on every shared problem.
+#include "contact/siconos_writer.h"
 #include "tests/contact/fc3d_files.h"
 #include "tests/contact/siconos_format.h"
 #include "tests/contact/siconos_oracle.h"
+#include "tests/contact/sticking_problem.h"
 
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
 
 namespace plantar::contact::testing {
@@ -41,6 +46,38 @@ TEST(Fc3dReader, ErrorMeasureMatchesSiconos) {
     const double c = fc3d_error(w, ours.q, ours.mu, run.r), d = theirs.error(run.r);
     EXPECT_NEAR(c, d, 1e-10 * d + 1e-15); // round-off of W r + q: ~1e-16
   }
+}
+
+// The writer (contact/siconos_writer.h) against Siconos's own reader: a problem with a rigid
+// factor, two rotated compliant patches and normal biases is written, read back by Siconos
+// bit for bit as assembled (W dense, q = v_free + b e_n, mu), and the fixture's known sticking
+// solution is a solution of the written problem by Siconos's error measure.
+TEST(SiconosWriter, SiconosReadsTheProblemAsAssembled) {
+  const auto fixture = plantar::contact::test::sticking_problem(6, 8, 1.0, 0.5, -1, 17);
+  const ContactProblem& problem = fixture.problem;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "plantar_siconos_writer_test.dat";
+  {
+    std::ofstream out(path);
+    write_siconos_problem(problem, out);
+  }
+  const SiconosOracle theirs(path.string());
+  Eigen::MatrixXd w;
+  problem.assemble_delassus(w);
+  Eigen::VectorXd q = problem.free_velocity.head(3 * problem.n_contacts);
+  for (int k = 0; k < problem.n_contacts; ++k)
+    q[3 * k] += problem.normal_bias[k];
+  ASSERT_EQ(theirs.n_contacts(), problem.n_contacts);
+  EXPECT_EQ((theirs.w().array() != w.array()).count(), 0);
+  EXPECT_EQ((theirs.q().array() != q.array()).count(), 0);
+  EXPECT_EQ((theirs.mu().array() != problem.friction.head(problem.n_contacts).array()).count(), 0);
+  const double error = theirs.error(fixture.solution);
+  std::printf("written: %d contacts, rigid rank %d, %zu patches; Siconos's error at the known "
+              "solution %.2e\n",
+              problem.n_contacts, problem.rigid_rank(), problem.patches.size(), error);
+  EXPECT_LT(error, 1e-12);
+  EXPECT_EQ(read_siconos_problem(path.string()).n_contacts, problem.n_contacts);
+  std::filesystem::remove(path);
 }
 
 TEST(Fc3dReader, MalformedFileGivesClearError) {
