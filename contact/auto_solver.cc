@@ -82,6 +82,11 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     return gs;
   }
   history.offset = sweeps;
+  // Gauss-Seidel's iterate, to resume from should Newton fail.
+  const double gs_residual = gs.residual;
+  const bool resumable = reason == SwitchReason::slow || reason == SwitchReason::stalled;
+  if (resumable)
+    switch_iterate_.head(n3) = p.head(n3);
   // Half of Newton's budget from Gauss-Seidel's iterate, the rest for a restart from zero.
   chunk = settings;
   chunk.max_iterations = std::max(1, settings.max_iterations / 2);
@@ -109,8 +114,34 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
       result.iterations = iterations;
     }
   }
-  history.offset = 0;
   result.finished_by = ContactSolverType::newton;
+  if (!result.converged() && resumable && sweeps < settings.max_iterations) {
+    // Newton failed where it was predicted to be faster (a singular Newton matrix: redundant
+    // contacts at an edge): Gauss-Seidel resumes from its own iterate with the rest of its
+    // budget, and the better of the two is kept.
+    const SolverResult newton = result;
+    first_attempt_.head(n3) = p.head(n3);
+    p.head(n3) = switch_iterate_.head(n3);
+    chunk = settings;
+    chunk.warm_start = false;
+    chunk.max_iterations = settings.max_iterations - sweeps;
+    history.offset = sweeps + newton.iterations;
+    SolverResult resumed =
+        gauss_seidel_.solve(problem, chunk, p, products, StartProducts::build, history);
+    if (resumed.converged() || resumed.residual < std::min(newton.residual, gs_residual)) {
+      resumed.finished_by = ContactSolverType::gauss_seidel;
+      resumed.iterations += newton.iterations;
+      result = resumed;
+    } else {
+      p.head(n3) = first_attempt_.head(n3);
+      products.compute_velocity(problem, p);
+      for (const CompliantPatch& patch : problem.patches)
+        products.compute_patch_product(patch, p);
+      result = newton;
+      result.iterations += resumed.iterations;
+    }
+  }
+  history.offset = 0;
   result.switch_reason = reason;
   result.switch_iteration = sweeps;
   result.switch_rate = rate;

@@ -17,10 +17,13 @@
 // switch_iteration, switch_rate); iterations counts GS sweeps plus Newton iterations.
 //
 // When Newton from Gauss-Seidel's iterate has not converged within half its budget, Newton
-// restarts from zero with the rest; the better of the two attempts (by residual) is returned.
+// restarts from zero with the rest; the better of the two attempts (by residual) is kept.
+// When neither converged after a slow or stalled Gauss-Seidel, Gauss-Seidel resumes from its
+// iterate at the switch with the rest of its own budget (max_iterations - sweeps), and the
+// better of the two is returned (finished_by says which; iterations counts all three phases).
 //
 // It runs the facade's own GaussSeidelSolver and SemismoothNewtonSolver; its own workspace is
-// the first attempt's impulses (3 max_contacts). solve() allocates nothing.
+// two sets of impulses (3 max_contacts each). solve() allocates nothing.
 
 #include "contact/gauss_seidel_solver.h"
 #include "contact/iterative_solver.h"
@@ -35,6 +38,7 @@ public:
       : gauss_seidel_(gauss_seidel), newton_(newton) {}
   void resize(int max_contacts, int /*rigid_rank*/) override {
     first_attempt_.setZero(3 * max_contacts);
+    switch_iterate_.setZero(3 * max_contacts);
   }
   SolverResult solve(const ContactProblem& problem, const SolverSettings& settings,
                      Eigen::Ref<Eigen::VectorXd> impulses, DelassusProducts& products,
@@ -43,7 +47,8 @@ public:
 private:
   GaussSeidelSolver& gauss_seidel_;
   SemismoothNewtonSolver& newton_;
-  Eigen::VectorXd first_attempt_; ///< Newton's first attempt's impulses, N s
+  Eigen::VectorXd first_attempt_;  ///< Newton's first attempt's impulses, N s
+  Eigen::VectorXd switch_iterate_; ///< Gauss-Seidel's impulses at the switch, N s
 };
 
 } // namespace plantar::contact

@@ -60,5 +60,47 @@ TEST(AutoRestart, ReturnsTheBetterOfNewtonsTwoAttempts) {
   EXPECT_LT(result.residual, 1e-3 * newton.residual);
 }
 
+// Four contacts of a compliant ankle's foot at a step's edge (step 3314 of the robustness
+// matrix's planned step, dt 1 ms, theta 1, written by the run that stopped on it:
+// tests/contact/data/compliant_ankle_step_edge.dat). Gauss-Seidel converges slowly (rate 0.89
+// per sweep), so auto switches to Newton, whose matrix is singular here: Newton from its
+// iterate and from zero end at 1e-4 m/s, as Siconos's NSN_AC (LU failed). Auto must then resume
+// Gauss-Seidel from its own iterate, which converges; Siconos's NSGS converges too.
+TEST(AutoRestart, ResumesGaussSeidelWhenNewtonFails) {
+  const std::string path =
+      std::string(PLANTAR_SOURCE_DIR) + "/tests/contact/data/compliant_ankle_step_edge.dat";
+  const SiconosProblem source = read_siconos_problem(path);
+  const SiconosOracle oracle(path);
+  ContactProblem problem;
+  pose_problem(source, problem);
+  ASSERT_EQ(problem.n_contacts, 4);
+  ContactSolver solver(problem.n_contacts, 0);
+  SolverSettings settings;
+  settings.tolerance = 1e-8; // m/s, as the walk scenes
+  settings.max_iterations = 4000;
+  settings.warm_start = false;
+  settings.solver = ContactSolverType::newton;
+  Eigen::VectorXd newton_r = Eigen::VectorXd::Zero(12);
+  const SolverResult newton = solver.solve(problem, settings, newton_r);
+  settings.solver = ContactSolverType::automatic;
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(12);
+  const SolverResult result = solver.solve(problem, settings, r);
+  const auto nsgs = oracle.solve(500 /* SICONOS_FRICTION_3D_NSGS */, 1e-10, 10000);
+  std::printf("Newton: %d it, residual %.3e m/s; auto: %d it (%s@%d, finished by %s), residual "
+              "%.3e m/s, Siconos error %.3e; Siconos NSGS error %.3e\n",
+              newton.iterations, newton.residual, result.iterations,
+              to_string(result.switch_reason), result.switch_iteration,
+              to_string(result.finished_by), result.residual, oracle.error(r), nsgs.error);
+  EXPECT_GT(newton.residual, 1e-6); // why auto must not end with Newton here
+  EXPECT_TRUE(result.converged());
+  EXPECT_EQ(result.switch_reason, SwitchReason::slow);
+  EXPECT_EQ(result.finished_by, ContactSolverType::gauss_seidel);
+  EXPECT_LE(result.residual, settings.tolerance);
+  EXPECT_LT(oracle.error(r), 1e-7); // Siconos's measure, relative to max(|q|, |u|, |r|)
+  EXPECT_LT(oracle.error(r), 1e-3 * oracle.error(newton_r));
+  EXPECT_NEAR(oracle.error(r), fc3d_error(source.dense_w(), source.q, source.mu, r), 1e-12);
+  EXPECT_LT(nsgs.error, 1e-8);
+}
+
 } // namespace
 } // namespace plantar::contact::testing
