@@ -166,6 +166,12 @@ void RobotParameters::declare(dealii::ParameterHandler& prm) {
                     "(e.g. 'rigid, compliant ankle, fem sole') into DIR/<form>/ and plots them "
                     "together into DIR/figures/; plantar sweep sweeps these forms. Empty: Foot "
                     "form only.");
+  prm.declare_entry("Rigid foot grid", std::to_string(RobotParameters().rigid_foot_grid),
+                    Integer(0, 15),
+                    "Contact points of the rigid foot and the compliant ankle's foot: 0, the 8 "
+                    "points of the sole outline (corners and edge midpoints); n in [2, 15], an n "
+                    "x n grid over Sole/Length x Sole/Width, which also meets the ground under "
+                    "the sole's interior (uneven ground: docs/terrain.md).");
   prm.declare_entry("Ankle linear stiffness", "40000", Double(0),
                     "compliant ankle: vertical spring k_z (N/m), > 0.");
   prm.declare_entry("Ankle linear damping", "600", Double(0),
@@ -225,6 +231,9 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
     throw std::invalid_argument("Robot/URDF file = " + prm.get("URDF file") + ": no such file (" +
                                 urdf_file.string() + ")");
   foot_form = parse_foot_form(prm.get("Foot form"), "Robot/Foot form");
+  rigid_foot_grid = static_cast<int>(prm.get_integer("Rigid foot grid"));
+  require(rigid_foot_grid == 0 || (rigid_foot_grid >= 2 && rigid_foot_grid <= 15),
+          "Robot/Rigid foot grid", rigid_foot_grid, "0 (the outline) or in [2, 15]");
   foot_forms.clear();
   for (const std::string& item : dealii::Utilities::split_string_list(prm.get("Foot forms"), ','))
     foot_forms.push_back(parse_foot_form(item, "Robot/Foot forms"));

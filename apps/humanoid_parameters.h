@@ -29,6 +29,9 @@ struct RobotParameters {
   /// `plantar run`: run every form of this list (Foot form ignored) into DIR/<form>/; empty:
   /// Foot form only. `plantar sweep`: the forms of the sweep.
   std::vector<FootForm> foot_forms;
+  /// Rigid feet and compliant ankles: 0, the 8 points of the sole outline; n in [2, 15], an
+  /// n x n grid over Sole/Length x Sole/Width (the outline's corners included).
+  int rigid_foot_grid = 0;
   double ankle_linear_stiffness = 40000;      ///< N/m, > 0 (hrp2.md, public HRP-2 flexibility)
   double ankle_linear_damping = 600;          ///< N s/m, >= 0
   double ankle_angular_stiffness = 600;       ///< N m/rad, > 0

@@ -8,10 +8,18 @@ namespace plantar::app {
 
 RigidFoot::RigidFoot(const Scene& scene) {
   const double a = scene.sole.length / 2, b = scene.sole.width / 2;
-  outline_.resize(3, 8);
-  outline_ << a, a, a, 0, -a, -a, -a, 0, //
-      -b, 0, b, b, b, 0, -b, -b,         //
-      0, 0, 0, 0, 0, 0, 0, 0;
+  const int n = scene.robot.rigid_foot_grid;
+  if (n == 0) {
+    outline_.resize(3, 8);
+    outline_ << a, a, a, 0, -a, -a, -a, 0, //
+        -b, 0, b, b, b, 0, -b, -b,         //
+        0, 0, 0, 0, 0, 0, 0, 0;
+    return;
+  }
+  outline_.resize(3, n * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      outline_.col(i * n + j) << -a + 2 * a * i / (n - 1), -b + 2 * b * j / (n - 1), 0.0;
 }
 
 void RigidFoot::add_contacts(double friction) {

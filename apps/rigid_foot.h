@@ -1,6 +1,6 @@
 #pragma once
 // Foot form "rigid": 8 contact points on each sole's outline (4 corners + 4 edge midpoints of
-// Sole/Length x Sole/Width) in the sole frame.
+// Sole/Length x Sole/Width) in the sole frame, or an n x n grid over it (Robot/Rigid foot grid).
 
 #include "apps/foot_model.h"
 
@@ -27,7 +27,7 @@ private:
     int body = 0;
     Eigen::Vector3d position; ///< body coordinates, m
   };
-  Eigen::Matrix3Xd outline_; ///< 3 x 8, sole frame, m
+  Eigen::Matrix3Xd outline_; ///< 3 x 8 (or n^2), sole frame, m
   std::array<std::vector<Point>, 2> feet_;
 };
 

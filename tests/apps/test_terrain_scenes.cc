@@ -127,6 +127,55 @@ TEST(TerrainScenes, RobotStandsOnBumpsAndParaViewShowsTheTerrain) {
   EXPECT_EQ(n_terrain, 2);
 }
 
+// Robot/Rigid foot grid: the rigid foot of 8 outline points, placed on rough ground (the walk of
+// scenes/walk_rough.prm planned on it), passes through the ground under its sole's interior;
+// an n x n grid meets it. At t = 0 the terrain's gap is measured at a 21 x 21 grid of each placed
+// sole (the terrain's own height, not the contact model): below the outline foot it is negative
+// by millimetres, below the 9 x 9 grid foot by at most the ground between its points.
+TEST(TerrainScenes, RigidFootGridMeetsTheGroundUnderTheSole) {
+  std::array<double, 2> deepest{};
+  for (int grid : {0, 9}) {
+    const Scene scene =
+        testing::load_humanoid_scene("walk_rough", {{"Robot/Foot forms", ""},
+                                                    {"Robot/Foot form", "rigid"},
+                                                    {"Robot/Rigid foot grid", std::to_string(grid)},
+                                                    {"Walking/Footstep placement", "terrain"}});
+    HumanoidSimulation simulation(scene);
+    const Eigen::Matrix3Xd& points = simulation.foot_model().contact_points();
+    ASSERT_EQ(points.cols(), grid == 0 ? 8 : grid * grid);
+    const double a = scene.sole.length / 2, b = scene.sole.width / 2;
+    if (grid > 0) { // the grid's corners are the outline's, its spacing even
+      EXPECT_EQ(points.col(0), Eigen::Vector3d(-a, -b, 0));
+      EXPECT_EQ(points.col(grid * grid - 1), Eigen::Vector3d(a, b, 0));
+      EXPECT_NEAR(points(1, 1) - points(1, 0), 2 * b / (grid - 1), 1e-15);
+    }
+    const contact::Terrain& terrain = simulation.terrain();
+    multibody::Data data(simulation.model());
+    multibody::forward_kinematics(simulation.model(), data, simulation.q());
+    double min_point_gap = 1e9, min_sole_gap = 1e9;
+    for (int foot = 0; foot < 2; ++foot) {
+      const multibody::SE3 sole = multibody::frame_placement(
+          simulation.model(), data, simulation.foot_model().sole_frame(foot));
+      for (int k = 0; k < points.cols(); ++k)
+        min_point_gap =
+            std::min(min_point_gap, contact::terrain_gap(terrain, sole.act_point(points.col(k))));
+      for (int i = 0; i <= 20; ++i)
+        for (int j = 0; j <= 20; ++j)
+          min_sole_gap = std::min(
+              min_sole_gap,
+              contact::terrain_gap(
+                  terrain, sole.act_point(Eigen::Vector3d(-a + a * i / 10, -b + b * j / 10, 0))));
+    }
+    std::printf("rigid foot grid %d (%ld points): lowest contact point %.2e m above the "
+                "ground, the sole's 21 x 21 grid %.2e m\n",
+                grid, static_cast<long>(points.cols()), min_point_gap, min_sole_gap);
+    EXPECT_GT(min_point_gap, -1e-9); // the placement's invariant: no contact point below
+    deepest[grid == 0 ? 0 : 1] = -min_sole_gap;
+  }
+  EXPECT_GT(deepest[0], 5e-4);              // the outline foot's interior is in the ground
+  EXPECT_LT(deepest[1], 0.25 * deepest[0]); // the grid meets it
+}
+
 // The F/T sensors see the ground's moment at the contacts' heights (FootReport::torque): the
 // stabilized walk on a flat ground raised by 0.3 m is the walk at z = 0 moved up by 0.3 m. With
 // the moments taken on z = 0 (sum f_z x, sum f_z y) the sensors read the horizontal forces'
