@@ -82,8 +82,15 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     return gs;
   }
   history.offset = sweeps;
+  // Impulses saved earlier, back in p with their products rebuilt (for ContactSolver's
+  // velocity and patch_product()).
+  const auto restore = [&](const Eigen::VectorXd& saved) {
+    p.head(n3) = saved.head(n3);
+    products.compute_velocity(problem, p);
+    for (const CompliantPatch& patch : problem.patches)
+      products.compute_patch_product(patch, p);
+  };
   // Gauss-Seidel's iterate, to resume from should Newton fail.
-  const double gs_residual = gs.residual;
   const bool resumable = reason == SwitchReason::slow || reason == SwitchReason::stalled;
   if (resumable)
     switch_iterate_.head(n3) = p.head(n3);
@@ -104,11 +111,8 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
     result.iterations += first.iterations;
     if (!result.converged() && !(result.residual < first.residual)) {
-      // The restart did no better: the first attempt's impulses, their products rebuilt.
-      p.head(n3) = first_attempt_.head(n3);
-      products.compute_velocity(problem, p);
-      for (const CompliantPatch& patch : problem.patches) // for ContactSolver::patch_product()
-        products.compute_patch_product(patch, p);
+      // The restart did no better: the first attempt's impulses.
+      restore(first_attempt_);
       const int iterations = result.iterations;
       result = first;
       result.iterations = iterations;
@@ -128,15 +132,12 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     history.offset = sweeps + newton.iterations;
     SolverResult resumed =
         gauss_seidel_.solve(problem, chunk, p, products, StartProducts::build, history);
-    if (resumed.converged() || resumed.residual < std::min(newton.residual, gs_residual)) {
+    if (resumed.converged() || resumed.residual < newton.residual) {
       resumed.finished_by = ContactSolverType::gauss_seidel;
       resumed.iterations += newton.iterations;
       result = resumed;
     } else {
-      p.head(n3) = first_attempt_.head(n3);
-      products.compute_velocity(problem, p);
-      for (const CompliantPatch& patch : problem.patches)
-        products.compute_patch_product(patch, p);
+      restore(first_attempt_);
       result = newton;
       result.iterations += resumed.iterations;
     }

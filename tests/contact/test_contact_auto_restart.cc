@@ -17,13 +17,24 @@
 namespace plantar::contact::testing {
 namespace {
 
-TEST(AutoRestart, ReturnsTheBetterOfNewtonsTwoAttempts) {
-  const std::string path =
-      std::string(PLANTAR_SOURCE_DIR) + "/tests/contact/data/rigid_walk_collinear_heel.dat";
-  const SiconosProblem source = read_siconos_problem(path);
-  const SiconosOracle oracle(path);
+/// A problem of tests/contact/data posed for Plantar's solvers, with Siconos's view of it.
+struct WalkProblem {
+  explicit WalkProblem(const std::string& name)
+      : path(std::string(PLANTAR_SOURCE_DIR) + "/tests/contact/data/" + name),
+        source(read_siconos_problem(path)), oracle(path) {
+    pose_problem(source, problem);
+  }
+  std::string path;
+  SiconosProblem source;
+  SiconosOracle oracle;
   ContactProblem problem;
-  pose_problem(source, problem);
+};
+
+TEST(AutoRestart, ReturnsTheBetterOfNewtonsTwoAttempts) {
+  const WalkProblem walk("rigid_walk_collinear_heel.dat");
+  const SiconosProblem& source = walk.source;
+  const SiconosOracle& oracle = walk.oracle;
+  const ContactProblem& problem = walk.problem;
   ASSERT_EQ(problem.n_contacts, 3);
   ContactSolver solver(problem.n_contacts, 0);
   SolverSettings settings;
@@ -67,12 +78,10 @@ TEST(AutoRestart, ReturnsTheBetterOfNewtonsTwoAttempts) {
 // iterate and from zero end at 1e-4 m/s, as Siconos's NSN_AC (LU failed). Auto must then resume
 // Gauss-Seidel from its own iterate, which converges; Siconos's NSGS converges too.
 TEST(AutoRestart, ResumesGaussSeidelWhenNewtonFails) {
-  const std::string path =
-      std::string(PLANTAR_SOURCE_DIR) + "/tests/contact/data/compliant_ankle_step_edge.dat";
-  const SiconosProblem source = read_siconos_problem(path);
-  const SiconosOracle oracle(path);
-  ContactProblem problem;
-  pose_problem(source, problem);
+  const WalkProblem walk("compliant_ankle_step_edge.dat");
+  const SiconosProblem& source = walk.source;
+  const SiconosOracle& oracle = walk.oracle;
+  const ContactProblem& problem = walk.problem;
   ASSERT_EQ(problem.n_contacts, 4);
   ContactSolver solver(problem.n_contacts, 0);
   SolverSettings settings;
