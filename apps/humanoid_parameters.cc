@@ -172,6 +172,16 @@ void RobotParameters::declare(dealii::ParameterHandler& prm) {
                     "points of the sole outline (corners and edge midpoints); n in [2, 15], an n "
                     "x n grid over Sole/Length x Sole/Width, which also meets the ground under "
                     "the sole's interior (uneven ground: docs/terrain.md).");
+  prm.declare_entry("Rigid sole depth warning",
+                    number_text(RobotParameters().rigid_sole_depth_warning), Double(0, 1),
+                    "Rigid feet and compliant ankles on uneven ground: warn when the deepest "
+                    "point of the sole's face (an 11 x 11 grid over Sole/Length x Sole/Width) "
+                    "is more than this in the ground (m), i.e. the contact points miss ground "
+                    "under the sole; (0, 1].");
+  prm.declare_entry("Rigid sole max depth", number_text(RobotParameters().rigid_sole_max_depth),
+                    Double(0, 1),
+                    "Same depth (m) at which the run stops, naming Robot/Rigid foot grid; "
+                    "(0, 1].");
   prm.declare_entry("Ankle linear stiffness", "40000", Double(0),
                     "compliant ankle: vertical spring k_z (N/m), > 0.");
   prm.declare_entry("Ankle linear damping", "600", Double(0),
@@ -234,6 +244,12 @@ void RobotParameters::parse(dealii::ParameterHandler& prm,
   rigid_foot_grid = static_cast<int>(prm.get_integer("Rigid foot grid"));
   require(rigid_foot_grid == 0 || (rigid_foot_grid >= 2 && rigid_foot_grid <= 15),
           "Robot/Rigid foot grid", rigid_foot_grid, "0 (the outline) or in [2, 15]");
+  rigid_sole_depth_warning = prm.get_double("Rigid sole depth warning");
+  rigid_sole_max_depth = prm.get_double("Rigid sole max depth");
+  require(rigid_sole_depth_warning > 0, "Robot/Rigid sole depth warning", rigid_sole_depth_warning,
+          "in (0, 1]");
+  require(rigid_sole_max_depth > 0, "Robot/Rigid sole max depth", rigid_sole_max_depth,
+          "in (0, 1]");
   foot_forms.clear();
   for (const std::string& item : dealii::Utilities::split_string_list(prm.get("Foot forms"), ','))
     foot_forms.push_back(parse_foot_form(item, "Robot/Foot forms"));

@@ -32,6 +32,11 @@ struct RobotParameters {
   /// Rigid feet and compliant ankles: 0, the 8 points of the sole outline; n in [2, 15], an
   /// n x n grid over Sole/Length x Sole/Width (the outline's corners included).
   int rigid_foot_grid = 0;
+  /// Rigid feet and compliant ankles on uneven ground: the deepest point of the sole's face in
+  /// the ground (an 11 x 11 grid over it, m) warns past rigid_sole_depth_warning and stops the
+  /// run past rigid_sole_max_depth (apps/validity_monitor.h), both (0, 1] m.
+  double rigid_sole_depth_warning = 0.001;
+  double rigid_sole_max_depth = 0.005;
   double ankle_linear_stiffness = 40000;      ///< N/m, > 0 (hrp2.md, public HRP-2 flexibility)
   double ankle_linear_damping = 600;          ///< N s/m, >= 0
   double ankle_angular_stiffness = 600;       ///< N m/rad, > 0

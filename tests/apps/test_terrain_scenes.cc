@@ -176,6 +176,73 @@ TEST(TerrainScenes, RigidFootGridMeetsTheGroundUnderTheSole) {
   EXPECT_LT(deepest[1], 0.25 * deepest[0]); // the grid meets it
 }
 
+// The rigid foot's validity on uneven ground (Robot/Rigid sole depth warning, Rigid sole max
+// depth): after a step of the rough walk, the summary's record is the deepest point of the two
+// soles' faces in the ground, measured here from the terrain's height on an 11 x 11 grid of each
+// placed sole; the outline foot warns, the 9 x 9 grid does not, a failure level below the depth
+// stops the run naming the parameter and the remedy, and on flat ground nothing is checked.
+TEST(TerrainScenes, RigidSoleFaceInTheGroundIsReported) {
+  const auto walk = [](int grid, const char* max_depth, const char* terrain) {
+    return testing::load_humanoid_scene("walk_rough",
+                                        {{"Robot/Foot forms", ""},
+                                         {"Robot/Foot form", "rigid"},
+                                         {"Robot/Rigid foot grid", std::to_string(grid)},
+                                         {"Robot/Rigid sole max depth", max_depth},
+                                         {"Terrain/Type", terrain},
+                                         {"Walking/Footstep placement", "terrain"}});
+  };
+  std::array<double, 2> peak{};
+  for (int grid : {0, 9}) {
+    const Scene scene = walk(grid, "0.005", "rough");
+    HumanoidSimulation simulation(scene);
+    simulation.step();
+    // The depth from the terrain's height below each probe of the placed soles.
+    const contact::Terrain& terrain = simulation.terrain();
+    multibody::Data data(simulation.model());
+    multibody::forward_kinematics(simulation.model(), data, simulation.q());
+    const double a = scene.sole.length / 2, b = scene.sole.width / 2;
+    double deepest = 0;
+    for (int foot = 0; foot < 2; ++foot) {
+      const multibody::SE3 sole = multibody::frame_placement(
+          simulation.model(), data, simulation.foot_model().sole_frame(foot));
+      for (int i = 0; i <= 10; ++i)
+        for (int j = 0; j <= 10; ++j) {
+          const Eigen::Vector3d x =
+              sole.act_point(Eigen::Vector3d(-a + a * i / 5, -b + b * j / 5, 0));
+          deepest = std::max(deepest, -contact::terrain_gap(terrain, x));
+        }
+    }
+    const ValidityMonitor& validity = simulation.summary().validity;
+    ASSERT_EQ(validity.size(), 1);
+    const ValidityRecord& record = validity.record(0);
+    std::printf("rigid foot grid %d: the soles' faces %.3e m deep after one step (record %.3e m, "
+                "warned: %d)\n",
+                grid, deepest, record.peak, record.warned() ? 1 : 0);
+    EXPECT_STREQ(record.limit.key, "rigid_sole_depth");
+    EXPECT_NEAR(record.peak, deepest, 1e-12);
+    EXPECT_EQ(record.warned(), deepest > scene.robot.rigid_sole_depth_warning);
+    peak[grid == 0 ? 0 : 1] = record.peak;
+  }
+  EXPECT_GT(peak[0], 1e-3);           // the outline misses a millimetre of ground: a warning
+  EXPECT_LT(peak[1], 0.25 * peak[0]); // the grid meets it
+  {
+    HumanoidSimulation simulation(walk(0, "0.0005", "rough"));
+    try {
+      simulation.step();
+      ADD_FAILURE() << "a face deeper than Robot/Rigid sole max depth did not stop the run";
+    } catch (const std::runtime_error& e) {
+      EXPECT_TRUE(std::regex_search(
+          e.what(), std::regex("step 1, t = 0.001 s: depth \\(m\\) of the rigid sole's face in the "
+                               "ground .* > Robot/Rigid sole max depth = 0.0005: .*Robot/Rigid "
+                               "foot grid = 9")))
+          << e.what();
+    }
+  }
+  HumanoidSimulation flat(walk(0, "0.005", "flat"));
+  flat.step();
+  EXPECT_EQ(flat.summary().validity.size(), 0);
+}
+
 // The F/T sensors see the ground's moment at the contacts' heights (FootReport::torque): the
 // stabilized walk on a flat ground raised by 0.3 m is the walk at z = 0 moved up by 0.3 m. With
 // the moments taken on z = 0 (sum f_z x, sum f_z y) the sensors read the horizontal forces'
