@@ -409,6 +409,12 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
                     "fraction of the tolerance is left as it is for that sweep (no local "
                     "solve, no pass over its columns); convergence still needs every contact "
                     "within the tolerance. 0 updates every contact; [0, 1).");
+  prm.declare_entry("Newton stall iterations",
+                    std::to_string(ContactParameters().newton_stall_iterations), Integer(0),
+                    "auto: Newton from Gauss-Seidel's iterate, then from zero, stops after "
+                    "this many iterations without halving its residual; when both stop, Newton "
+                    "from Gauss-Seidel's iterate runs once more without the test "
+                    "(contact/auto_solver.h). 0: never stop early; >= 0.");
   prm.declare_entry("Failure residual", number_text(default_failure_factor) + " x Tolerance",
                     Anything(),
                     "A solve that stops unconverged with a residual above this stops the run "
@@ -426,6 +432,7 @@ void ContactParameters::parse(dealii::ParameterHandler& prm) {
   max_iterations = prm.get_integer("Max iterations");
   sticking_direct = prm.get_bool("Sticking direct solve");
   sweep_skip = prm.get_double("Sweep skip fraction");
+  newton_stall_iterations = static_cast<int>(prm.get_integer("Newton stall iterations"));
   failure_residual = parse_failure_residual(prm.get("Failure residual"), tolerance);
   require(sweep_skip < 1, "Contact/Sweep skip fraction", sweep_skip, "in [0, 1)");
   require(position_correction > 0, "Contact/Position correction", position_correction, "in (0, 1]");

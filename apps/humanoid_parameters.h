@@ -112,6 +112,8 @@ struct ContactParameters {
   int max_iterations = 500;                  ///< >= 1
   bool sticking_direct = true;               ///< direct solve when every contact sticks
   double sweep_skip = 0.0; ///< Gauss-Seidel: skip contacts within this x tolerance
+  /// auto: Newton attempts stop after this many iterations without halving the residual.
+  int newton_stall_iterations = contact::SolverSettings().auto_newton_stall_iterations;
   /// Failure residual's default: this many tolerances (docs/reliability.md: why 10).
   static constexpr double default_failure_factor = 10;
   /// m/s: an unconverged solve above this stops the run; the scene gives a residual or

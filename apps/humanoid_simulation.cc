@@ -142,6 +142,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   stepper_parameters.solver.max_iterations = scene_.contact.max_iterations;
   stepper_parameters.solver.sticking_direct = scene_.contact.sticking_direct;
   stepper_parameters.solver.sweep_skip = scene_.contact.sweep_skip;
+  stepper_parameters.solver.auto_newton_stall_iterations = scene_.contact.newton_stall_iterations;
   stepper_parameters.max_contacts = foot_model_->max_contacts() + pads_->max_contacts();
   stepper_ = std::make_unique<multibody::Stepper>(model_, stepper_parameters, *terrain_);
   stepper_->set_gains(

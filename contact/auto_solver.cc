@@ -90,41 +90,60 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     for (const CompliantPatch& patch : problem.patches)
       products.compute_patch_product(patch, p);
   };
-  // Gauss-Seidel's iterate, to resume from should Newton fail.
+  // Gauss-Seidel's iterate, for Newton's third attempt and to resume from should Newton fail.
   const bool resumable = reason == SwitchReason::slow || reason == SwitchReason::stalled;
-  if (resumable)
-    switch_iterate_.head(n3) = p.head(n3);
-  // Half of Newton's budget from Gauss-Seidel's iterate, the rest for a restart from zero.
+  switch_iterate_.head(n3) = p.head(n3);
+  // Half of Newton's budget from Gauss-Seidel's iterate (stopped when it stalls), the other half
+  // for a restart from zero; then, if the first was stopped, its rest without the stall test.
+  const int half = std::max(1, settings.max_iterations / 2);
   chunk = settings;
-  chunk.max_iterations = std::max(1, settings.max_iterations / 2);
+  chunk.max_iterations = half;
+  chunk.newton_stall_iterations = settings.auto_newton_stall_iterations;
   SolverResult result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
+  int newton_iterations = result.iterations;
   if (!result.converged() && result.status != SolverStatus::non_finite &&
-      result.iterations < settings.max_iterations) {
+      newton_iterations < settings.max_iterations) {
     // Newton from Gauss-Seidel's iterate can stall where Newton from zero converges (redundant
-    // contacts of compliant ankles): one restart from zero with the rest of Newton's budget.
+    // contacts of compliant ankles): a restart from zero.
     const SolverResult first = result;
-    first_attempt_.head(n3) = p.head(n3);
-    chunk = settings;
-    chunk.max_iterations = settings.max_iterations - first.iterations;
+    const bool stopped = first.iterations < half;
+    best_newton_.head(n3) = p.head(n3);
+    chunk.newton_stall_iterations = 0;
+    chunk.max_iterations = std::max(1, settings.max_iterations - half);
     p.head(n3).setZero();
-    history.offset = sweeps + first.iterations;
+    history.offset = sweeps + newton_iterations;
     result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
-    result.iterations += first.iterations;
+    newton_iterations += result.iterations;
     if (!result.converged() && !(result.residual < first.residual)) {
-      // The restart did no better: the first attempt's impulses.
-      restore(first_attempt_);
-      const int iterations = result.iterations;
+      restore(best_newton_); // the restart did no better: the first attempt
       result = first;
-      result.iterations = iterations;
+    }
+    if (!result.converged() && result.status != SolverStatus::non_finite && stopped &&
+        newton_iterations < settings.max_iterations) {
+      // The restart failed too: the first attempt once more, without the stall test, with the
+      // rest of the budget (slowly converging: a rigid heel's collinear contacts, test
+      // contact_auto_restart); the best of the three is kept.
+      const SolverResult stalled = result;
+      best_newton_.head(n3) = p.head(n3);
+      p.head(n3) = switch_iterate_.head(n3);
+      chunk.max_iterations = settings.max_iterations - newton_iterations;
+      history.offset = sweeps + newton_iterations;
+      result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
+      newton_iterations += result.iterations;
+      if (!result.converged() && !(result.residual < stalled.residual)) {
+        restore(best_newton_);
+        result = stalled;
+      }
     }
   }
+  result.iterations = newton_iterations;
   result.finished_by = ContactSolverType::newton;
   if (!result.converged() && resumable && sweeps < settings.max_iterations) {
     // Newton failed where it was predicted to be faster (a singular Newton matrix: redundant
     // contacts at an edge): Gauss-Seidel resumes from its own iterate with the rest of its
     // budget, and the better of the two is kept.
     const SolverResult newton = result;
-    first_attempt_.head(n3) = p.head(n3);
+    best_newton_.head(n3) = p.head(n3);
     p.head(n3) = switch_iterate_.head(n3);
     chunk = settings;
     chunk.warm_start = false;
@@ -137,7 +156,7 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
       resumed.iterations += newton.iterations;
       result = resumed;
     } else {
-      restore(first_attempt_);
+      restore(best_newton_);
       result = newton;
       result.iterations += resumed.iterations;
     }

@@ -16,8 +16,12 @@
 // finished, why and when it switched (SolverResult::finished_by, switch_reason,
 // switch_iteration, switch_rate); iterations counts GS sweeps plus Newton iterations.
 //
-// When Newton from Gauss-Seidel's iterate has not converged within half its budget, Newton
-// restarts from zero with the rest; the better of the two attempts (by residual) is kept.
+// Newton from Gauss-Seidel's iterate has half of Newton's budget and stops early when it stalls
+// (settings.auto_newton_stall_iterations iterations without halving its residual); if it has not
+// converged, Newton restarts from zero with the other half, and the better of the two attempts
+// (by residual) is kept. If the first attempt was stopped early and the restart failed too, the
+// first attempt runs once more without the stall test with the rest of the budget (the attempt
+// as it was before the stall test), and the best of the three is kept.
 // When neither converged after a slow or stalled Gauss-Seidel, Gauss-Seidel resumes from its
 // iterate at the switch with the rest of its own budget (max_iterations - sweeps), and the
 // better of the two is returned (finished_by says which; iterations counts all three phases).
@@ -37,7 +41,7 @@ public:
   AutoSolver(GaussSeidelSolver& gauss_seidel, SemismoothNewtonSolver& newton)
       : gauss_seidel_(gauss_seidel), newton_(newton) {}
   void resize(int max_contacts, int /*rigid_rank*/) override {
-    first_attempt_.setZero(3 * max_contacts);
+    best_newton_.setZero(3 * max_contacts);
     switch_iterate_.setZero(3 * max_contacts);
   }
   SolverResult solve(const ContactProblem& problem, const SolverSettings& settings,
@@ -47,7 +51,7 @@ public:
 private:
   GaussSeidelSolver& gauss_seidel_;
   SemismoothNewtonSolver& newton_;
-  Eigen::VectorXd first_attempt_;  ///< Newton's first attempt's impulses, N s
+  Eigen::VectorXd best_newton_;    ///< the best Newton attempt's impulses so far, N s
   Eigen::VectorXd switch_iterate_; ///< Gauss-Seidel's impulses at the switch, N s
 };
 

@@ -260,6 +260,9 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
   // The Levenberg-Marquardt floor below is engaged from the first short or rejected step, or
   // after kFloorAfter iterations, on: where full steps converge it would only slow them.
   bool floor_engaged = false;
+  // Stall test (settings.newton_stall_iterations): the last halving of the residual.
+  double halved = result.residual;
+  int halved_at = 0;
   for (int it = 1; it <= settings.max_iterations; ++it) {
     result.iterations = it;
     if (it > kFloorAfter)
@@ -357,6 +360,13 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
       r = p.head(n3); // the projection cost accuracy: go on from the projected iterate
       refresh_velocity();
       theta = merit(problem, r, u, phi_);
+    }
+    if (result.residual < 0.5 * halved) {
+      halved = result.residual;
+      halved_at = it;
+    } else if (settings.newton_stall_iterations > 0 &&
+               it - halved_at >= settings.newton_stall_iterations) {
+      break;
     }
   }
   return finish(true);

@@ -37,6 +37,10 @@ void SolverSettings::validate() const {
     bad("auto_switch_sweeps", auto_switch_sweeps, "[1, inf)");
   if (!(auto_newton_iterations >= 1.0))
     bad("auto_newton_iterations", auto_newton_iterations, "[1, inf)");
+  if (newton_stall_iterations < 0)
+    bad("newton_stall_iterations", newton_stall_iterations, "[0, inf)");
+  if (auto_newton_stall_iterations < 0)
+    bad("auto_newton_stall_iterations", auto_newton_stall_iterations, "[0, inf)");
 }
 
 const char* to_string(SolverStatus status) {

@@ -86,6 +86,13 @@ struct SolverSettings {
   /// Newton (and automatic): the linear solve of each iteration; a form the problem does not
   /// have (sparse without a sparse general W, woodbury with one) falls back to dense.
   NewtonLinearSolve newton_linear_solve = NewtonLinearSolve::automatic;
+  /// Newton: stop (status max_iterations) once this many iterations have passed without the
+  /// residual falling below half its lowest value at the start of them; 0 never stops early.
+  /// Range [0, inf).
+  int newton_stall_iterations = 0;
+  /// Automatic: newton_stall_iterations of Newton from Gauss-Seidel's iterate (then Newton
+  /// restarts from zero, auto_solver.h); 0 lets it use half the budget. Range [0, inf).
+  int auto_newton_stall_iterations = 20;
 
   /// Throws std::invalid_argument naming the field, its value and the allowed range.
   void validate() const;

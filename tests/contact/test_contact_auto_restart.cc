@@ -3,14 +3,16 @@
 // tests/contact/data/rigid_walk_collinear_heel.dat). W (9 x 9) has rank 5 and the normal biases
 // are not compatible with the collinear contacts, so the solution has a contact near the cone's
 // apex; Siconos's NSGS stalls at an error of 1.1e-7 and its NSN_AC ends at 2e-3 after 500
-// iterations. Plantar's auto runs Newton from Gauss-Seidel's iterate (half the budget), then
-// from zero (the rest), and must return the better of the two attempts: the restart diverges
-// here (residual 0.022 m/s) while the first attempt ends below the scenes' failure threshold
-// (10 x the tolerance). Checked with Siconos's own error measure and our dense residual.
+// iterations. Plantar's auto runs Newton from Gauss-Seidel's iterate, then from zero, each
+// stopped when it stalls, and the better one goes on: the restart diverges here (residual 0.022
+// m/s) while the first attempt, which creeps down (1.2e-7 to 6e-8 m/s in 500 iterations), must be
+// returned below the scenes' failure threshold (10 x the tolerance). Checked with Siconos's own
+// error measure and our dense residual.
 #include "contact/contact_solver.h"
 #include "tests/contact/siconos_format.h"
 #include "tests/contact/siconos_oracle.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <gtest/gtest.h>
 
@@ -109,6 +111,97 @@ TEST(AutoRestart, ResumesGaussSeidelWhenNewtonFails) {
   EXPECT_LT(oracle.error(r), 1e-3 * oracle.error(newton_r));
   EXPECT_NEAR(oracle.error(r), fc3d_error(source.dense_w(), source.q, source.mu, r), 1e-12);
   EXPECT_LT(nsgs.error, 1e-8);
+}
+
+// Newton's stall test (SolverSettings::newton_stall_iterations = 20) against the unstopped
+// run's recorded residuals: on the rigid heel's problem Newton from zero wanders (0.022 m/s after
+// 1000 iterations); with the test it must stop at the first iteration k at which 20 iterations
+// have passed since the last halving of the residual (the chain of halvings starting from the
+// residual of zero impulses), and return the iterate of the run cut at that iteration.
+TEST(AutoRestart, NewtonStopsWhereItsResidualStopsHalving) {
+  const WalkProblem walk("rigid_walk_collinear_heel.dat");
+  const ContactProblem& problem = walk.problem;
+  ContactSolver solver(problem.n_contacts, 0);
+  solver.record_history(1000);
+  SolverSettings settings;
+  settings.tolerance = 1e-8;
+  settings.max_iterations = 1000;
+  settings.warm_start = false;
+  settings.solver = ContactSolverType::newton;
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(9);
+  const SolverResult full = solver.solve(problem, settings, r);
+  const Eigen::VectorXd history = solver.history();
+  ASSERT_EQ(history.size(), full.iterations);
+  ASSERT_EQ(problem.normal_bias.head(3).norm(), 0.0); // v = W p + q: the start's is q
+  double halved = ContactSolver::complementarity_residual(problem, Eigen::VectorXd::Zero(9),
+                                                          problem.free_velocity.head(9));
+  int halved_at = 0, expected = 0;
+  for (int k = 1; k <= history.size() && expected == 0; ++k) {
+    if (history[k - 1] < 0.5 * halved) {
+      halved = history[k - 1];
+      halved_at = k;
+    } else if (k - halved_at >= 20) {
+      expected = k;
+    }
+  }
+  settings.newton_stall_iterations = 20;
+  r.setZero();
+  const SolverResult stopped = solver.solve(problem, settings, r);
+  // The same iterate as the run cut at that iteration (both projected onto the cones).
+  settings.newton_stall_iterations = 0;
+  settings.max_iterations = std::max(expected, 1);
+  Eigen::VectorXd r_cut = Eigen::VectorXd::Zero(9);
+  const SolverResult cut = solver.solve(problem, settings, r_cut);
+  std::printf("Newton from zero: %d iterations, residual %.3e m/s; with the stall test %d "
+              "(expected %d), residual %.3e m/s (the run cut there: %.3e m/s)\n",
+              full.iterations, full.residual, stopped.iterations, expected, stopped.residual,
+              cut.residual);
+  ASSERT_GT(expected, 20);
+  EXPECT_EQ(stopped.iterations, expected);
+  EXPECT_FALSE(stopped.converged());
+  EXPECT_EQ(stopped.residual, cut.residual);
+  EXPECT_EQ(r, r_cut);
+}
+
+// A compliant ankle's eight contacts in the flat walk (bench/robustness/forms_dt_theta.prm,
+// dt 1 ms, theta 1/2: tests/contact/data/compliant_ankle_flat_walk_stall.dat, with the step's
+// warm start). Gauss-Seidel is slow (its rate predicts > 100 sweeps), Newton from its iterate
+// stalls near 3e-8 m/s for its whole half budget (2000 iterations), and the restart from zero
+// converges in 7. With auto's stall test (auto_newton_stall_iterations = 20) the first attempt
+// stops early: the same restart, the same impulses, a sixteenth of the iterations.
+TEST(AutoRestart, StopsNewtonFromGaussSeidelWhenItStalls) {
+  const WalkProblem walk("compliant_ankle_flat_walk_stall.dat");
+  const ContactProblem& problem = walk.problem;
+  ASSERT_EQ(problem.n_contacts, 8);
+  Eigen::VectorXd warm(24);
+  warm << 0.18168097774380865, 0.0074495711070272034, 0.026412109143632116, 0.08153382529501102,
+      0.017721356734252021, 0.031026012995246897, 0, 0, 0, 0, 0, 0, 0.084804544158317674,
+      0.0067251703325186289, 0.0075084313434210549, 0.22817492731394709, -0.0028733982899241482,
+      0.0080686136526768037, 0, 0, 0, 0, 0, 0;
+  ContactSolver solver(problem.n_contacts, 0);
+  SolverSettings settings;
+  settings.tolerance = 1e-8; // m/s, as the walk scenes
+  settings.max_iterations = 4000;
+  settings.solver = ContactSolverType::automatic;
+  settings.auto_newton_stall_iterations = 0;
+  Eigen::VectorXd r_full = warm;
+  const SolverResult full = solver.solve(problem, settings, r_full);
+  settings.auto_newton_stall_iterations = SolverSettings().auto_newton_stall_iterations;
+  Eigen::VectorXd r = warm;
+  const SolverResult result = solver.solve(problem, settings, r);
+  std::printf("auto without the stall test: %d iterations (%s after %d sweeps), residual %.3e "
+              "m/s; with it: %d iterations, residual %.3e m/s; Siconos error %.3e; impulses "
+              "differ by %.1e N s\n",
+              full.iterations, to_string(full.switch_reason), full.switch_iteration, full.residual,
+              result.iterations, result.residual, walk.oracle.error(r),
+              (r - r_full).lpNorm<Eigen::Infinity>());
+  ASSERT_TRUE(full.converged());
+  ASSERT_TRUE(result.converged());
+  EXPECT_EQ(result.finished_by, ContactSolverType::newton);
+  EXPECT_GE(full.iterations, full.switch_iteration + settings.max_iterations / 2);
+  EXPECT_LT(result.iterations, full.iterations / 10);
+  EXPECT_LT(walk.oracle.error(r), 1e-7);
+  EXPECT_LT((r - r_full).lpNorm<Eigen::Infinity>(), 1e-12); // the restart's impulses, both
 }
 
 } // namespace

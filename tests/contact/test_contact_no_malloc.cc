@@ -183,8 +183,9 @@ TEST(ContactNoMalloc, RigidStickingDirectSolveDoesNotAllocate) {
     Eigen::internal::set_is_malloc_allowed(true);
     std::printf("rigid, variant %d: direct %s, %d iterations, residual %.2e\n", variant,
                 pc::to_string(r.direct_attempt), r.iterations, r.residual);
-    if (variant < 2)
+    if (variant < 2) {
       EXPECT_TRUE(r.direct);
+    }
     EXPECT_TRUE(r.converged());
   }
 }
