@@ -5,6 +5,11 @@
 
 namespace plantar::contact {
 
+namespace {
+/// rho of the retry from zero, relative to rho_k = 3 / trace(W_kk) (auto_solver.h).
+constexpr double kRhoRetryScale = 10.0;
+} // namespace
+
 SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettings& settings,
                                Eigen::Ref<Eigen::VectorXd> p, DelassusProducts& products,
                                StartProducts start, ResidualHistory& history) {
@@ -90,52 +95,59 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
     for (const CompliantPatch& patch : problem.patches)
       products.compute_patch_product(patch, p);
   };
-  // Gauss-Seidel's iterate, for Newton's third attempt and to resume from should Newton fail.
+  // Gauss-Seidel's iterate, for Newton's attempts from it and to resume from should Newton fail.
   const bool resumable = reason == SwitchReason::slow || reason == SwitchReason::stalled;
   switch_iterate_.head(n3) = p.head(n3);
-  // Half of Newton's budget from Gauss-Seidel's iterate (stopped when it stalls), the other half
-  // for a restart from zero; then, if the first was stopped, its rest without the stall test.
-  const int half = std::max(1, settings.max_iterations / 2);
-  chunk = settings;
-  chunk.max_iterations = half;
-  chunk.newton_stall_iterations = settings.auto_newton_stall_iterations;
-  SolverResult result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
-  int newton_iterations = result.iterations;
-  if (!result.converged() && result.status != SolverStatus::non_finite &&
-      newton_iterations < settings.max_iterations) {
-    // Newton from Gauss-Seidel's iterate can stall where Newton from zero converges (redundant
-    // contacts of compliant ankles): a restart from zero.
-    const SolverResult first = result;
-    const bool stopped = first.iterations < half;
-    best_newton_.head(n3) = p.head(n3);
-    chunk.newton_stall_iterations = 0;
-    chunk.max_iterations = std::max(1, settings.max_iterations - half);
-    p.head(n3).setZero();
-    history.offset = sweeps + newton_iterations;
-    result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
-    newton_iterations += result.iterations;
-    if (!result.converged() && !(result.residual < first.residual)) {
-      restore(best_newton_); // the restart did no better: the first attempt
-      result = first;
-    }
-    if (!result.converged() && result.status != SolverStatus::non_finite && stopped &&
-        newton_iterations < settings.max_iterations) {
-      // The restart failed too: the first attempt once more, without the stall test, with the
-      // rest of the budget (slowly converging: a rigid heel's collinear contacts, test
-      // contact_auto_restart); the best of the three is kept.
-      const SolverResult stalled = result;
-      best_newton_.head(n3) = p.head(n3);
+  // Newton attempts (auto_solver.h), each from Gauss-Seidel's iterate or from zero; the best so
+  // far (by residual) is kept in best_newton_.
+  int newton_iterations = 0;
+  SolverResult result;
+  bool last_is_best = true, any_attempt = false;
+  const auto attempt = [&](bool from_switch, int budget, int stall, double rho_scale) {
+    if (from_switch)
       p.head(n3) = switch_iterate_.head(n3);
-      chunk.max_iterations = settings.max_iterations - newton_iterations;
-      history.offset = sweeps + newton_iterations;
-      result = newton_.solve(problem, chunk, p, products, StartProducts::build, history);
-      newton_iterations += result.iterations;
-      if (!result.converged() && !(result.residual < stalled.residual)) {
-        restore(best_newton_);
-        result = stalled;
-      }
+    else
+      p.head(n3).setZero();
+    chunk = settings;
+    chunk.max_iterations = std::max(1, budget);
+    chunk.newton_stall_iterations = stall;
+    chunk.newton_rho_scale = settings.newton_rho_scale * rho_scale;
+    history.offset = sweeps + newton_iterations;
+    const SolverResult r =
+        newton_.solve(problem, chunk, p, products, StartProducts::build, history);
+    newton_iterations += r.iterations;
+    last_is_best = !any_attempt || r.converged() || r.residual < result.residual;
+    any_attempt = true;
+    if (last_is_best) {
+      result = r;
+      best_newton_.head(n3) = p.head(n3);
+    }
+    return r;
+  };
+  const auto go_on = [&](const SolverResult& last) {
+    return !result.converged() && last.status != SolverStatus::non_finite &&
+           newton_iterations < settings.max_iterations;
+  };
+  const int half = std::max(1, settings.max_iterations / 2);
+  const int stall = settings.auto_newton_stall_iterations;
+  const SolverResult first = attempt(true, half, stall, 1.0);
+  // Newton from Gauss-Seidel's iterate can stall where Newton from zero converges (redundant
+  // contacts of compliant ankles): a restart from zero with the other half.
+  if (go_on(first)) {
+    const SolverResult restart = attempt(false, settings.max_iterations - half, 0, 1.0);
+    const bool stopped = first.iterations < half;
+    // Both failed after a stopped first attempt: Newton from zero with rho 10 x larger (the
+    // walks' redundant rigid contacts converge there in tens of iterations where rho x 1 needs
+    // thousands) with half the budget left; then the first attempt without the stall test.
+    if (stopped && go_on(restart)) {
+      const SolverResult stiff =
+          attempt(false, (settings.max_iterations - newton_iterations) / 2, 0, kRhoRetryScale);
+      if (go_on(stiff))
+        attempt(true, settings.max_iterations - newton_iterations, 0, 1.0);
     }
   }
+  if (!last_is_best)
+    restore(best_newton_);
   result.iterations = newton_iterations;
   result.finished_by = ContactSolverType::newton;
   if (!result.converged() && resumable && sweeps < settings.max_iterations) {

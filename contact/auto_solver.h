@@ -19,9 +19,11 @@
 // Newton from Gauss-Seidel's iterate has half of Newton's budget and stops early when it stalls
 // (settings.auto_newton_stall_iterations iterations without halving its residual); if it has not
 // converged, Newton restarts from zero with the other half, and the better of the two attempts
-// (by residual) is kept. If the first attempt was stopped early and the restart failed too, the
-// first attempt runs once more without the stall test with the rest of the budget (the attempt
-// as it was before the stall test), and the best of the three is kept.
+// (by residual) is kept. If the first attempt was stopped early and the restart failed too,
+// Newton restarts from zero with rho_k 10 x larger (SolverSettings::newton_rho_scale; half the
+// budget left; the walks' redundant rigid contacts converge there in tens of iterations), then
+// the first attempt runs once more without the stall test with the rest (the attempt as it was
+// before the stall test), and the best of the attempts is kept.
 // When neither converged after a slow or stalled Gauss-Seidel, Gauss-Seidel resumes from its
 // iterate at the switch with the rest of its own budget (max_iterations - sweeps), and the
 // better of the two is returned (finished_by says which; iterations counts all three phases).

@@ -221,7 +221,7 @@ SolverResult SemismoothNewtonSolver::solve(const ContactProblem& problem,
     problem.assemble_delassus_into(delassus_);
   else if (linear == NewtonLinearSolve::sparse)
     sparse_.prepare(problem);
-  rho_.head(n) = products.eta.head(n);
+  rho_.head(n) = settings.newton_rho_scale * products.eta.head(n);
   auto r = r_.head(n3);
   auto u = u_.head(n3);
   r = p.head(n3);

@@ -39,6 +39,8 @@ void SolverSettings::validate() const {
     bad("auto_newton_iterations", auto_newton_iterations, "[1, inf)");
   if (newton_stall_iterations < 0)
     bad("newton_stall_iterations", newton_stall_iterations, "[0, inf)");
+  if (!(newton_rho_scale > 0.0) || !std::isfinite(newton_rho_scale))
+    bad("newton_rho_scale", newton_rho_scale, "(0, inf)");
   if (auto_newton_stall_iterations < 0)
     bad("auto_newton_stall_iterations", auto_newton_stall_iterations, "[0, inf)");
 }

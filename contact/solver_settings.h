@@ -90,6 +90,9 @@ struct SolverSettings {
   /// residual falling below half its lowest value at the start of them; 0 never stops early.
   /// Range [0, inf).
   int newton_stall_iterations = 0;
+  /// Newton: rho_k = newton_rho_scale * 3 / trace(W_kk) in the Alart-Curnier function
+  /// (semismooth_newton_solver.h). Range (0, inf).
+  double newton_rho_scale = 1.0;
   /// Automatic: newton_stall_iterations of Newton from Gauss-Seidel's iterate (then Newton
   /// restarts from zero, auto_solver.h); 0 lets it use half the budget. Range [0, inf).
   int auto_newton_stall_iterations = 20;
