@@ -2,6 +2,7 @@
 
 #include "apps/scene.h"
 #include "contact/terrain.h"
+#include "multibody/kinematics.h"
 #include "multibody/stepper.h"
 
 namespace plantar::app {
@@ -77,13 +78,12 @@ void RigidFoot::check_validity(const multibody::Data& data, ValidityMonitor& mon
     return;
   std::array<double, 2> depth{};
   for (int foot = 0; foot < 2; ++foot) {
-    const multibody::Frame& frame = model_->frames[sole_frames_[foot]];
-    const multibody::SE3 sole = data.oMi[frame.body] * frame.placement;
+    const multibody::SE3 sole = multibody::frame_placement(*model_, data, sole_frames_[foot]);
     for (int k = 0; k < probes_.cols(); ++k)
       depth[foot] =
           std::max(depth[foot], -contact::terrain_gap(terrain, sole.act_point(probes_.col(k))));
   }
-  const bool left = depth[1] > depth[0] || depth[1] != depth[1];
+  const bool left = depth[1] > depth[0];
   monitor.check(depth_limit_, depth[left ? 1 : 0], left ? "left sole" : "right sole");
 }
 
