@@ -52,6 +52,9 @@ HumanoidSummary run_humanoid(const Scene& scene, const std::filesystem::path& ou
       std::filesystem::create_directories(output / "failed");
       fem::write_file_atomically(output / "failed" / "contact_problem.dat",
                                  [&problem](std::ostream& os) { os << problem; });
+      fem::write_file_atomically(
+          output / "failed" / "warm_start.txt",
+          [&simulation](std::ostream& os) { os << simulation.failed_warm_start(); });
     }
     throw;
   }

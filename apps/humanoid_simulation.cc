@@ -370,10 +370,13 @@ void HumanoidSimulation::step() {
             << settings.failure_residual << " m/s, " << report.n_contacts << " contacts; "
             << solver_advice({solve, settings.solver, settings.tolerance, settings.max_iterations,
                               dt, summary_.foot_stiffness, summary_.robot_mass})
-            << " (the problem is written as failed/contact_problem.dat, Siconos numerics' format)";
-        std::ostringstream problem;
+            << " (the problem is written as failed/contact_problem.dat, Siconos numerics' "
+               "format, and its start as failed/warm_start.txt)";
+        std::ostringstream problem, start;
         contact::write_siconos_problem(stepper_->problem(), problem);
         failed_contact_problem_ = problem.str();
+        contact::write_warm_start(report.n_contacts, stepper_->warm_start(), start);
+        failed_warm_start_ = start.str();
         fail(msg.str());
       }
     }

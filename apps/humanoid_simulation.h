@@ -83,6 +83,9 @@ public:
   /// The contact problem of a solve that stopped the run (Contact/Failure residual), in Siconos
   /// numerics' text format (contact/siconos_writer.h); empty when none did.
   const std::string& failed_contact_problem() const { return failed_contact_problem_; }
+  /// That solve's start (the stepper's warm start, contact/siconos_writer.h write_warm_start);
+  /// empty when no solve stopped the run.
+  const std::string& failed_warm_start() const { return failed_warm_start_; }
   /// The landings of the right (0) and left (1) foot so far (a window still open at the end
   /// of run() is closed there).
   const std::vector<Landing>& landings(int foot) const { return landings_[foot].landings(); }
@@ -160,7 +163,7 @@ private:
   TimeSeries waist_, joints_, contacts_;
   TimeSeries balance_series_; ///< Stabilizer = dcm only (balance.csv)
   UnconvergedSolves unconverged_;
-  std::string failed_contact_problem_;
+  std::string failed_contact_problem_, failed_warm_start_;
   HumanoidSummary summary_;
 };
 

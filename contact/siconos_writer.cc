@@ -27,4 +27,13 @@ void write_siconos_problem(const ContactProblem& problem, std::ostream& out) {
   out.precision(precision);
 }
 
+void write_warm_start(int n_contacts, const Eigen::Ref<const Eigen::VectorXd>& impulses,
+                      std::ostream& out) {
+  const std::streamsize precision = out.precision(17);
+  out << 3 << "\n" << n_contacts << "\n";
+  for (int i = 0; i < 3 * n_contacts; ++i)
+    out << impulses[i] << "\n";
+  out.precision(precision);
+}
+
 } // namespace plantar::contact

@@ -16,4 +16,10 @@ namespace plantar::contact {
 /// digits. W is assembled densely (allocates: for diagnostics, not in the time loop).
 void write_siconos_problem(const ContactProblem& problem, std::ostream& out);
 
+/// Writes a start for that problem's solve, @p impulses (N s, 3 n_contacts, ordered as W's rows):
+/// "3", n_contacts, then the 3 n_contacts impulses, one number per line, 17 significant digits
+/// (read by tests/contact/siconos_format.h read_warm_start).
+void write_warm_start(int n_contacts, const Eigen::Ref<const Eigen::VectorXd>& impulses,
+                      std::ostream& out);
+
 } // namespace plantar::contact

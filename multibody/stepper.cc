@@ -73,6 +73,7 @@ void Stepper::resize_workspaces() {
   bias_start_.setZero(nv);
   v_mid_.setZero(nv);
   impulses_.setZero(3 * max);
+  warm_start_.setZero(3 * max);
   // The contact rows see only the contact bodies' 6-dof motions: a rigid factor of rank
   // 6 x (contact bodies) instead of nv when that is smaller.
   const int n_slots = static_cast<int>(slot_body_.size());
@@ -345,6 +346,7 @@ StepReport Stepper::step(Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::Vector
   problem_.n_contacts = n;
   if (n > 0) {
     assemble(n, v);
+    warm_start_.head(3 * n) = impulses_.head(3 * n);
     report.solver = solver_.solve(problem_, parameters_.solver, impulses_);
     lap(profile_.contact_solve);
     ++profile_.n_solves;

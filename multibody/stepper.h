@@ -127,6 +127,7 @@ public:
 
   void set_gains(const PdGains& gains);
   const PdGains& gains() const { return gains_; }
+  const StepperParameters& parameters() const { return parameters_; }
 
   /// A candidate contact point fixed to @p body, @p position in body coordinates (m), friction
   /// coefficient mu >= 0. Returns its index. Not in the time loop (allocates).
@@ -150,6 +151,12 @@ public:
   /// Data of the last step's start configuration (M, bias, placements).
   const Data& data() const { return data_; }
   const contact::ContactProblem& problem() const { return problem_; }
+  /// The impulses (N s, 3 problem().n_contacts, contact frames) the last contact solve started
+  /// from: each active point's impulse of the step before (zero where it was not in contact),
+  /// before the solver's projection onto the cones. With problem() it replays that solve.
+  Eigen::Ref<const Eigen::VectorXd> warm_start() const {
+    return warm_start_.head(3 * problem_.n_contacts);
+  }
   /// Impulse (N s, the point's contact frame (n, t1, t2): point_frame(); on flat ground
   /// [n = z, t1 = x, t2 = y]) of the last step on contact point @p point (index returned by
   /// add_contact_point).
@@ -258,7 +265,8 @@ private:
   std::vector<int> reduced_slots_; // slots in contact this step (capacity S)
   std::vector<Eigen::Matrix<double, 6, Eigen::Dynamic>> slot_reduced_; // rows of Z, 6 x 6 S
   Eigen::VectorXd impulses_;                                           // 3 max
-  Eigen::VectorXd gap_, v_before_;                                     // per candidate point
+  Eigen::VectorXd warm_start_;         // 3 max, impulses_ before the solve
+  Eigen::VectorXd gap_, v_before_;     // per candidate point
   std::vector<Eigen::Vector3d> lever_; // per candidate point: r = p - o_b (world, m)
   std::vector<Eigen::Matrix3d> frame_; // per candidate point: R_c of its last evaluation
   std::vector<int> active_points_;     // capacity = number of points

@@ -2,13 +2,18 @@
 // FrictionContactProblem files.
 //
 //   fc3d_bench [--tolerance 1e-8] [--max-iterations 10000] [--newton-iterations 500]
-//              [--solvers gs,admm,newton,auto,nsgs,nsn_ac] [--newton-linear auto] FILE.dat...
+//              [--solvers gs,admm,newton,auto,nsgs,nsn_ac] [--newton-linear auto]
+//              [--warm-start START.txt] FILE.dat...
 //
 // --max-iterations caps GS, ADMM, auto (each of its phases) and NSGS; --newton-iterations caps
 // Plantar's Newton and Siconos's NSN_AC.
 //
 // --newton-linear (auto, dense, sparse, woodbury) picks the linear solve of Plantar's Newton (and
 // auto's Newton phase); the note says which one ran.
+//
+// --warm-start (one FILE only) starts every solver from the impulses of START.txt instead of
+// zero: a stopped run's failed/warm_start.txt next to its failed/contact_problem.dat, the start
+// the run's solve had.
 //
 // Prints one line per problem and solver: problem, contacts, solver, iterations, seconds, the
 // error measure of Siconos (fc3d_compute_error, computed by Siconos) and status. Plantar's
@@ -24,6 +29,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -38,10 +44,11 @@ struct Row {
 };
 
 Row run_plantar(const SiconosProblem& source, const SiconosOracle& oracle, ContactSolverType type,
-                double tolerance, int max_iterations, NewtonLinearSolve linear) {
+                double tolerance, int max_iterations, NewtonLinearSolve linear,
+                const Eigen::VectorXd* start) {
   const Fc3dSolve solve = solve_to_tolerance(
       source, type, tolerance, max_iterations,
-      [&](const Eigen::VectorXd& r) { return oracle.error(r); }, linear);
+      [&](const Eigen::VectorXd& r) { return oracle.error(r); }, linear, start);
   Row row;
   row.iterations = solve.iterations;
   row.seconds = solve.seconds;
@@ -59,14 +66,13 @@ Row run_plantar(const SiconosProblem& source, const SiconosOracle& oracle, Conta
                 to_string(solve.last.newton_linear_solve);
   return row;
 }
-} // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   double tolerance = 1e-8;
   int max_iterations = 10000;
   int newton_iterations = 500; // Newton-type solvers (newton, nsn_ac): an iteration costs more
   std::string solvers = "gs,admm,newton,auto,nsgs,nsn_ac";
   NewtonLinearSolve linear = NewtonLinearSolve::automatic;
+  std::string warm_start_file;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -78,6 +84,8 @@ int main(int argc, char** argv) {
       newton_iterations = std::atoi(argv[++i]);
     else if (arg == "--solvers" && i + 1 < argc)
       solvers = argv[++i];
+    else if (arg == "--warm-start" && i + 1 < argc)
+      warm_start_file = argv[++i];
     else if (arg == "--newton-linear" && i + 1 < argc) {
       const std::string name = argv[++i];
       bool known = false;
@@ -98,11 +106,19 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: fc3d_bench [--tolerance t] [--max-iterations n] [--newton-iterations n] "
                    "[--solvers gs,admm,newton,auto,nsgs,nsn_ac] "
-                   "[--newton-linear auto|dense|sparse|woodbury] FILE.dat...\n");
+                   "[--newton-linear auto|dense|sparse|woodbury] [--warm-start START.txt] "
+                   "FILE.dat...\n");
       return 2;
     } else
       files.push_back(arg);
   }
+  if (!warm_start_file.empty() && files.size() != 1) {
+    std::fprintf(stderr, "fc3d_bench: --warm-start %s needs exactly one problem file, got %zu\n",
+                 warm_start_file.c_str(), files.size());
+    return 2;
+  }
+  if (!warm_start_file.empty())
+    std::printf("# every solver starts from %s\n", warm_start_file.c_str());
   std::printf("%-34s %6s %-8s %8s %10s %10s %-15s %s\n", "problem", "n", "solver", "iter",
               "seconds", "error", "status", "note");
   std::stringstream list(solvers);
@@ -112,13 +128,17 @@ int main(int argc, char** argv) {
   for (const std::string& path : files) {
     const SiconosProblem source = read_siconos_problem(path);
     const SiconosOracle oracle(path);
+    const Eigen::VectorXd warm = warm_start_file.empty()
+                                     ? Eigen::VectorXd()
+                                     : read_warm_start(warm_start_file, source.n_contacts);
+    const Eigen::VectorXd* start = warm_start_file.empty() ? nullptr : &warm;
     std::string name = path.substr(path.find_last_of('/') + 1);
     name = name.substr(0, name.rfind(".dat"));
     for (const std::string& solver : names) {
       Row row;
       if (solver == "nsgs" || solver == "nsn_ac") {
-        const auto run = solver == "nsgs" ? oracle.solve(500, tolerance, max_iterations)
-                                          : oracle.solve(504, tolerance, newton_iterations);
+        const auto run = solver == "nsgs" ? oracle.solve(500, tolerance, max_iterations, start)
+                                          : oracle.solve(504, tolerance, newton_iterations, start);
         row.iterations = run.iterations;
         row.seconds = run.seconds;
         row.error = oracle.error(run.r);
@@ -130,7 +150,7 @@ int main(int argc, char** argv) {
                                                             : ContactSolverType::automatic;
         row = run_plantar(source, oracle, type, tolerance,
                           type == ContactSolverType::newton ? newton_iterations : max_iterations,
-                          linear);
+                          linear, start);
       }
       std::printf("%-34s %6d %-8s %8d %10.4g %10.3g %-15s %s\n", name.c_str(), source.n_contacts,
                   solver.c_str(), row.iterations, row.seconds, row.error, row.status.c_str(),
@@ -139,4 +159,15 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) { // an unreadable or malformed file: named in e.what()
+    std::fprintf(stderr, "fc3d_bench: %s\n", e.what());
+    return 1;
+  }
 }

@@ -21,6 +21,7 @@
 #include "apps/condensed_sole_foot.h"
 #include "apps/humanoid_simulation.h"
 #include "apps/hyperelastic_sole_foot.h"
+#include "contact/contact_solver.h"
 #include "contact/ground_frame.h"
 #include "coupling/condensed_sole.h"
 #include "coupling/nonlinear_condensed_sole.h"
@@ -217,6 +218,8 @@ TEST(Reliability, StiffSoleLargeStepSuggestsASettingThatWorks) {
     }
     std::printf("failed solve written: %d contacts, largest difference %.1e\n", n, worst);
     EXPECT_EQ(worst, 0.0);
+    // Its start (failed/warm_start.txt) is the stepper's warm start (FailedSolveReplays...).
+    EXPECT_EQ(sim.failed_warm_start().empty(), false);
   }
   std::printf("E = 1e12 Pa, dt = 10 ms, admm: %s\n", what.c_str());
   ASSERT_FALSE(what.empty()) << "the ADMM run did not stop";
@@ -240,6 +243,60 @@ TEST(Reliability, StiffSoleLargeStepSuggestsASettingThatWorks) {
   EXPECT_EQ(s.n_steps, sim.n_steps());
   EXPECT_EQ(s.n_unconverged, 0);
   EXPECT_NEAR(s.final_contact_force.z() / weight, 1.0, 0.01);
+}
+
+/// The numbers of a written problem or start (one per line).
+std::vector<double> numbers_of(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<double> numbers;
+  for (double x; in >> x;)
+    numbers.push_back(x);
+  return numbers;
+}
+
+// A run stopped by a contact solve writes that solve's start next to its problem
+// (failed/warm_start.txt): 3, n, then the stepper's warm start bit for bit. The solve replayed
+// from it by a new solver with the run's settings ends as the run's did (iterations, residual):
+// the written problem and start are the whole solve. (auto, here with a budget of SETTINGS
+// sweeps, keeps nothing between solves; ADMM keeps its last rho, so its replay differs.)
+TEST(Reliability, FailedSolveReplaysFromItsWrittenStart) {
+  const Overrides small_budget = {{"Contact/Max iterations", "10"}};
+  HumanoidSimulation sim(load_humanoid_scene("walk", small_budget));
+  std::string what;
+  try {
+    sim.run();
+  } catch (const std::runtime_error& e) {
+    what = e.what();
+  }
+  ASSERT_FALSE(what.empty()) << "the run did not stop";
+  const contact::ContactProblem& problem = sim.stepper().problem();
+  const int n = problem.n_contacts;
+  const std::vector<double> written = numbers_of(sim.failed_warm_start());
+  ASSERT_EQ(written.size(), static_cast<std::size_t>(2 + 3 * n));
+  EXPECT_EQ(written[0], 3);
+  EXPECT_EQ(written[1], n);
+  const Eigen::Map<const Eigen::VectorXd> start(written.data() + 2, 3 * n);
+  EXPECT_EQ((start.array() != sim.stepper().warm_start().array()).count(), 0);
+  EXPECT_GT(start.norm(), 0.0); // the solve did not start from zero
+  contact::ContactSolver replay(n, problem.rigid_rank());
+  Eigen::VectorXd r = start;
+  const contact::SolverResult again = replay.solve(problem, sim.stepper().parameters().solver, r);
+  std::smatch run;
+  ASSERT_TRUE(std::regex_search(
+      what, run, std::regex("after ([0-9]+) iterations \\([^)]*\\), residual ([^ ]+) m/s")))
+      << what;
+  std::printf("replayed from the written start: %d iterations, residual %.6g m/s (the run: %s, "
+              "%s m/s)\n",
+              again.iterations, again.residual, std::string(run[1]).c_str(),
+              std::string(run[2]).c_str());
+  EXPECT_EQ(again.iterations, std::stoi(run[1]));
+  EXPECT_NEAR(again.residual / std::stod(run[2]), 1.0, 1e-5);
+  // From zero, as replays were before: another solve.
+  Eigen::VectorXd zero = Eigen::VectorXd::Zero(3 * n);
+  const contact::SolverResult cold = replay.solve(problem, sim.stepper().parameters().solver, zero);
+  std::printf("%s\nfrom zero: %d iterations, residual %.6g m/s\n", what.substr(0, 120).c_str(),
+              cold.iterations, cold.residual);
+  EXPECT_GT(std::abs(cold.residual / again.residual - 1.0), 0.01);
 }
 
 TEST(Reliability, ShippedScenesUseAutoAndTheStrictFailureResidual) {

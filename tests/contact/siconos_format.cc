@@ -19,9 +19,10 @@ struct FileCloser {
 
 class Scanner {
 public:
-  explicit Scanner(const std::string& path) : path_(path), file_(std::fopen(path.c_str(), "r")) {
+  Scanner(const std::string& path, const char* reader)
+      : path_(path), reader_(reader), file_(std::fopen(path.c_str(), "r")) {
     if (!file_)
-      throw std::runtime_error("read_siconos_problem: cannot open " + path);
+      throw std::runtime_error(reader_ + ": cannot open " + path);
   }
   int integer(const char* what) {
     int value = 0;
@@ -37,12 +38,12 @@ public:
     return value;
   }
   [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error("read_siconos_problem: " + path_ + ": expected " + what + " at byte " +
+    throw std::runtime_error(reader_ + ": " + path_ + ": expected " + what + " at byte " +
                              std::to_string(std::ftell(file_.get())));
   }
 
 private:
-  std::string path_;
+  std::string path_, reader_;
   std::unique_ptr<std::FILE, FileCloser> file_;
 };
 } // namespace
@@ -51,8 +52,23 @@ Eigen::MatrixXd SiconosProblem::dense_w() const {
   return sparse_block ? Eigen::MatrixXd(sparse) : dense;
 }
 
+Eigen::VectorXd read_warm_start(const std::string& path, int n_contacts) {
+  Scanner in(path, "read_warm_start");
+  const int dimension = in.integer("the dimension");
+  if (dimension != 3)
+    in.fail("dimension 3 (read " + std::to_string(dimension) + ")");
+  const int n = in.integer("the number of contacts");
+  if (n != n_contacts)
+    in.fail("the problem's " + std::to_string(n_contacts) + " contacts (read " + std::to_string(n) +
+            ")");
+  Eigen::VectorXd impulses(3 * n);
+  for (int i = 0; i < 3 * n; ++i)
+    impulses[i] = in.real(("impulse " + std::to_string(i)).c_str());
+  return impulses;
+}
+
 SiconosProblem read_siconos_problem(const std::string& path) {
-  Scanner in(path);
+  Scanner in(path, "read_siconos_problem");
   SiconosProblem out;
   out.dimension = in.integer("the dimension");
   if (out.dimension != 3)

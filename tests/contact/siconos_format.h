@@ -36,6 +36,11 @@ struct SiconosProblem {
 /// malformed file, a dimension other than 3 or an unsupported matrix storage.
 SiconosProblem read_siconos_problem(const std::string& path);
 
+/// Reads a start for the solve of an @p n_contacts problem, as contact/siconos_writer.h
+/// write_warm_start writes it ("3", n, 3n impulses). Throws std::runtime_error naming the file
+/// when it is short or malformed or its n differs from @p n_contacts.
+Eigen::VectorXd read_warm_start(const std::string& path, int n_contacts);
+
 /// Poses @p source as a ContactProblem (rigid rank 0, no patches, zero normal bias,
 /// W_gen = W kept as stored: dense or sparse). Returns W's relative asymmetry; throws when it
 /// exceeds @p asymmetry_limit (GeneralDelassus).

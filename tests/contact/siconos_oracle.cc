@@ -55,7 +55,8 @@ double SiconosOracle::error(const Eigen::VectorXd& r) const {
   return error;
 }
 
-SiconosOracle::Run SiconosOracle::solve(int solver_id, double tolerance, int max_iterations) const {
+SiconosOracle::Run SiconosOracle::solve(int solver_id, double tolerance, int max_iterations,
+                                        const Eigen::VectorXd* start) const {
   SolverOptions* options = solver_options_create(solver_id);
   if (options == nullptr)
     throw std::runtime_error("SiconosOracle: unknown solver id " + std::to_string(solver_id));
@@ -63,10 +64,17 @@ SiconosOracle::Run SiconosOracle::solve(int solver_id, double tolerance, int max
   options->dparam[SICONOS_DPARAM_TOL] = tolerance;
   Run run;
   run.r = Eigen::VectorXd::Zero(problem_->fc->M->size0);
+  if (start != nullptr) {
+    if (start->size() != run.r.size())
+      throw std::runtime_error("SiconosOracle::solve: a start of size " +
+                               std::to_string(start->size()) + " for " +
+                               std::to_string(run.r.size()) + " unknowns");
+    run.r = *start;
+  }
   run.u = Eigen::VectorXd::Zero(problem_->fc->M->size0);
-  const auto start = std::chrono::steady_clock::now();
+  const auto begin = std::chrono::steady_clock::now();
   run.info = fc3d_driver(problem_->fc, run.r.data(), run.u.data(), options);
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   run.iterations = options->iparam[SICONOS_IPARAM_ITER_DONE];
   run.error = options->dparam[SICONOS_DPARAM_RESIDU];
   solver_options_delete(options);

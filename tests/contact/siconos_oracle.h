@@ -32,9 +32,11 @@ public:
     double seconds = 0.0; ///< wall time of fc3d_driver
     Eigen::VectorXd r, u; ///< reactions and velocities
   };
-  /// Solves from zero with @p solver_id (e.g. SICONOS_FRICTION_3D_NSGS = 500,
-  /// SICONOS_FRICTION_3D_NSN_AC = 504), tolerance and iteration cap.
-  Run solve(int solver_id, double tolerance, int max_iterations) const;
+  /// Solves with @p solver_id (e.g. SICONOS_FRICTION_3D_NSGS = 500,
+  /// SICONOS_FRICTION_3D_NSN_AC = 504), tolerance and iteration cap, from @p start (3n
+  /// reactions, fc3d_driver's initial guess) or, when null, from zero.
+  Run solve(int solver_id, double tolerance, int max_iterations,
+            const Eigen::VectorXd* start = nullptr) const;
 
 private:
   struct Problem;

@@ -26,6 +26,11 @@ struct WalkProblem {
         source(read_siconos_problem(path)), oracle(path) {
     pose_problem(source, problem);
   }
+  /// The step's warm start, as the stepper passed it (name.warm.txt, written by
+  /// contact/siconos_writer.h write_warm_start).
+  Eigen::VectorXd warm_start() const {
+    return read_warm_start(path.substr(0, path.rfind(".dat")) + ".warm.txt", problem.n_contacts);
+  }
   std::string path;
   SiconosProblem source;
   SiconosOracle oracle;
@@ -44,8 +49,7 @@ TEST(AutoRestart, ReturnsTheBetterOfNewtonsTwoAttempts) {
   settings.max_iterations = 1000;
   settings.warm_start = true;
   // The walk's warm start (the previous step's impulses), as the stepper passed it.
-  Eigen::VectorXd warm(9);
-  warm << 0, 0, 0, 1.8960278555659282, 0.27784323395448285, 0.44609584806987934, 0, 0, 0;
+  const Eigen::VectorXd warm = walk.warm_start();
 
   // Newton alone from zero with the restart's budget: the attempt auto must not return.
   settings.solver = ContactSolverType::newton;
@@ -174,11 +178,7 @@ TEST(AutoRestart, StopsNewtonFromGaussSeidelWhenItStalls) {
   const WalkProblem walk("compliant_ankle_flat_walk_stall.dat");
   const ContactProblem& problem = walk.problem;
   ASSERT_EQ(problem.n_contacts, 8);
-  Eigen::VectorXd warm(24);
-  warm << 0.18168097774380865, 0.0074495711070272034, 0.026412109143632116, 0.08153382529501102,
-      0.017721356734252021, 0.031026012995246897, 0, 0, 0, 0, 0, 0, 0.084804544158317674,
-      0.0067251703325186289, 0.0075084313434210549, 0.22817492731394709, -0.0028733982899241482,
-      0.0080686136526768037, 0, 0, 0, 0, 0, 0;
+  const Eigen::VectorXd warm = walk.warm_start();
   ContactSolver solver(problem.n_contacts, 0);
   SolverSettings settings;
   settings.tolerance = 1e-8; // m/s, as the walk scenes

@@ -80,6 +80,37 @@ TEST(SiconosWriter, SiconosReadsTheProblemAsAssembled) {
   std::filesystem::remove(path);
 }
 
+// A start written with write_warm_start reads back bit for bit; a start of another problem's
+// size is refused with the file and both sizes named.
+TEST(SiconosWriter, WarmStartReadsBackBitForBit) {
+  const auto fixture = plantar::contact::test::sticking_problem(6, 8, 1.0, 0.5, -1, 17);
+  const int n = fixture.problem.n_contacts;
+  Eigen::VectorXd start = fixture.solution.head(3 * n);
+  start[1] = -1.0 / 3.0; // digits a shorter format would lose
+  start[2] = 1e-300;
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "plantar_warm_start_test.txt";
+  {
+    std::ofstream out(path);
+    write_warm_start(n, start, out);
+  }
+  const Eigen::VectorXd read = read_warm_start(path.string(), n);
+  ASSERT_EQ(read.size(), 3 * n);
+  EXPECT_EQ((read.array() != start.array()).count(), 0);
+  try {
+    read_warm_start(path.string(), n + 1);
+    ADD_FAILURE() << "a start of " << n << " contacts was read for " << n + 1;
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("the problem's " + std::to_string(n + 1) + " contacts (read " +
+                        std::to_string(n) + ")"),
+              std::string::npos)
+        << what;
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(Fc3dReader, MalformedFileGivesClearError) {
   EXPECT_THROW(read_siconos_problem("/nonexistent.dat"), std::runtime_error);
 }
