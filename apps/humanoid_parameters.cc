@@ -626,6 +626,19 @@ void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
                     "point of its support (the hull of its contact points on the ground: three on "
                     "a rough ground) at least this far inside it (m), nearest to the sole centre "
                     "(docs/terrain.md), [0, 0.1].");
+  prm.declare_entry("Foothold search radius", number_text(w.foothold.radius), Double(0, 0.1),
+                    "Footstep placement = terrain: each footstep may move horizontally by up to "
+                    "this distance (m) to a placement whose support holds the sole centre at least "
+                    "ZMP support margin inside (else as far inside as the candidates allow), the "
+                    "nearest such to the plan; the steps stay within Max step length; 0: the "
+                    "footsteps stay where planned (docs/terrain.md), [0, 0.1].");
+  prm.declare_entry("Foothold search spacing", number_text(w.foothold.spacing), Double(0.001, 0.05),
+                    "Grid spacing of the foothold search's candidate positions (m), [0.001, "
+                    "0.05]; (2 radius / spacing + 1)^2 placements per footstep at most.");
+  prm.declare_entry("Foothold max tilt", number_text(w.foothold.max_tilt), Double(0.001, 0.5),
+                    "The foothold search leaves out placements tilted more than this (rad) and "
+                    "more than the planned one (a sole bridging a step's edge rests on the edge "
+                    "line), [0.001, 0.5].");
 }
 
 void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
@@ -649,6 +662,9 @@ void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
                            "Walking/Footstep placement");
   footprint_samples = static_cast<int>(prm.get_integer("Footprint samples"));
   zmp_margin = prm.get_double("ZMP support margin");
+  foothold.radius = prm.get_double("Foothold search radius");
+  foothold.spacing = prm.get_double("Foothold search spacing");
+  foothold.max_tilt = prm.get_double("Foothold max tilt");
   try {
     walking::check_walking_parameters(walk);
   } catch (const std::invalid_argument& e) {

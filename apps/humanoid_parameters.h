@@ -12,6 +12,7 @@
 #include "multibody/walking/footstep_plan.h"
 #include "multibody/walking/humanoid.h"
 #include "multibody/walking/leg_solver.h"
+#include "multibody/walking/terrain_footsteps.h"
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -164,6 +165,9 @@ struct WalkingSceneParameters {
   /// Footstep placement = terrain: the ZMP target of each placement is the point of its support
   /// polygon shrunk by this margin nearest to the sole centre (m, >= 0).
   double zmp_margin = 0.03;
+  /// Footstep placement = terrain: each footstep may move by up to foothold.radius (m) to where
+  /// its support holds the sole centre (terrain_footsteps.h place_on_foothold); 0: it stays.
+  walking::FootholdSearch foothold;
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };

@@ -19,7 +19,8 @@ SceneReference walk_scene_reference(const SceneReferenceInputs& in) {
         points.cols() >= 3 && points.cols() <= samples * samples
             ? walking::SolePoints(points.topRows<2>())
             : walking::sole_grid(in.scene.sole.length, in.scene.sole.width, samples);
-    walking::place_walk_on_terrain(in.terrain, sole, in.scene.walking.zmp_margin, lifted);
+    walking::place_walk_on_terrain(in.terrain, sole, in.scene.walking.zmp_margin, lifted,
+                                   in.scene.walking.foothold);
   }
   SceneReference out;
   out.duration = in.scene.simulation.duration;

@@ -3,7 +3,8 @@
 #   bench/robustness/run.sh [BUILD_DIR] [OUT_DIR] [JOBS]
 # Sweeps (plantar sweep, resumable): forms_dt_theta.prm (3 forms x 4 dt x 3 theta),
 # sole_material.prm (E x nu), the sole meshes of bench/impact_convergence/walk_mesh.prm, rough
-# ground planned on it (rough.prm), an unplanned 2 cm step (unplanned_step.prm) and the same step
+# ground planned on it (rough.prm; rough_foothold.prm: with 9 x 9 contact grids and a foothold
+# search), an unplanned 2 cm step (unplanned_step.prm) and the same step
 # planned on (planned_step.prm); then
 # OUT_DIR/tables.md by table.py (outcome and figures per case).
 set -eu
@@ -16,11 +17,12 @@ cmake --build "$build" --target plantar -j2
 export PLANTAR_MESH_CACHE=${PLANTAR_MESH_CACHE:-$build/mesh-cache}
 mkdir -p "$out"
 for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
-  "$root/bench/impact_convergence/walk_mesh.prm" "$here/rough.prm" "$here/unplanned_step.prm" \
+  "$root/bench/impact_convergence/walk_mesh.prm" "$here/rough.prm" "$here/rough_foothold.prm" \
+  "$here/unplanned_step.prm" \
   "$here/planned_step.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
 done
 /usr/bin/python3 "$here/table.py" "$out/forms_dt_theta" "$out/sole_material" "$out/walk_mesh" \
-  "$out/rough" "$out/unplanned_step" "$out/planned_step" >"$out/tables.md"
+  "$out/rough" "$out/rough_foothold" "$out/unplanned_step" "$out/planned_step" >"$out/tables.md"
 cat "$out/tables.md"

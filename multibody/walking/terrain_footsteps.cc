@@ -28,7 +28,9 @@ SolePoints sole_grid(double length, double width, int m) {
 namespace {
 
 /// The lowest plane (a, b, c) at the centre, z = a + b x + c y, with h_i <= z(xy_i) for every
-/// point: over the triples of points whose triangle holds the centre (0, 0). a = inf if none.
+/// point: over the triples of points whose triangle holds the centre (0, 0); of planes equally
+/// low there (to the height tolerance: a point at the centre on a peak) the least tilted.
+/// a = inf if none.
 /// @p triple receives the three points' indices.
 Eigen::Vector3d upper_facet(const SolePoints& xy, const Eigen::VectorXd& h,
                             Eigen::Vector3i& triple) {
@@ -51,11 +53,16 @@ Eigen::Vector3d upper_facet(const SolePoints& xy, const Eigen::VectorXd& h,
         if (l1 < -1e-12 || l2 < -1e-12 || l3 < -1e-12)
           continue;
         const double centre = l1 * h[i] + l2 * h[j] + l3 * h[k];
-        if (centre >= best[0])
+        if (centre > best[0] + height_tolerance)
           continue;
         Eigen::Matrix2d d;
         d << (b - a).x(), (b - a).y(), (c - a).x(), (c - a).y();
         const Eigen::Vector2d slope = d.inverse() * Eigen::Vector2d(h[j] - h[i], h[k] - h[i]);
+        // Planes as low at the centre (a point of the sole on a peak under it) tie: the least
+        // tilted is kept.
+        if (centre >= best[0] - height_tolerance &&
+            slope.squaredNorm() >= best.tail<2>().squaredNorm())
+          continue;
         bool above = true;
         for (int m = 0; m < n && above; ++m)
           above = h[m] <= centre + slope.dot(xy.col(m)) + height_tolerance;
@@ -133,12 +140,76 @@ Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
   return placed;
 }
 
+double footstep_tilt(const Footstep& step) {
+  return std::acos(std::clamp(std::cos(step.pitch) * std::cos(step.roll), -1.0, 1.0));
+}
+
+double centre_margin(const Eigen::Matrix2Xd& support) {
+  const int m = static_cast<int>(support.cols());
+  if (m < 3)
+    return -std::numeric_limits<double>::infinity();
+  double margin = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < m; ++i) {
+    const Eigen::Vector2d a = support.col(i), edge = support.col((i + 1) % m) - a;
+    const double length = edge.norm();
+    if (length > 0.0) // (0 - a) x edge, left of the edge > 0
+      margin = std::min(margin, (edge.y() * a.x() - edge.x() * a.y()) / length);
+  }
+  return margin;
+}
+
+Footstep place_on_foothold(const contact::Terrain& terrain, const Footstep& step,
+                           const SolePoints& points, double zmp_margin,
+                           const FootholdSearch& search, const Eigen::Vector2d& swing_from,
+                           double max_step_length) {
+  if (!(search.radius >= 0.0) || !(search.spacing > 0.0) || !(search.max_tilt > 0.0))
+    throw std::invalid_argument("place_on_foothold: radius = " + std::to_string(search.radius) +
+                                " m must be >= 0, spacing = " + std::to_string(search.spacing) +
+                                " m > 0 and max_tilt = " + std::to_string(search.max_tilt) +
+                                " rad > 0");
+  const Footstep own = place_on_terrain(terrain, step, points, zmp_margin);
+  const double max_tilt = std::max(search.max_tilt, footstep_tilt(own));
+  const int k = static_cast<int>(std::floor(search.radius / search.spacing + 1e-9));
+  Footstep best;
+  double best_score = -std::numeric_limits<double>::infinity(), best_distance = 0.0;
+  for (int i = -k; i <= k; ++i)
+    for (int j = -k; j <= k; ++j) {
+      const double dx = i * search.spacing, dy = j * search.spacing;
+      const double distance = std::hypot(dx, dy);
+      if ((i != 0 || j != 0) && (distance > search.radius + 1e-12 ||
+                                 std::hypot(step.x + dx - swing_from.x(),
+                                            step.y + dy - swing_from.y()) > max_step_length))
+        continue;
+      Footstep candidate = step;
+      candidate.x += dx;
+      candidate.y += dy;
+      candidate = i == 0 && j == 0 ? own : place_on_terrain(terrain, candidate, points, zmp_margin);
+      if (footstep_tilt(candidate) > max_tilt + 1e-12)
+        continue;
+      const double score = std::min(centre_margin(candidate.support), zmp_margin);
+      if (score > best_score + 1e-9 ||
+          (std::abs(score - best_score) <= 1e-9 && distance < best_distance)) {
+        best = candidate;
+        best_score = score;
+        best_distance = distance;
+      }
+    }
+  return best;
+}
+
 void place_walk_on_terrain(const contact::Terrain& terrain, const SolePoints& points,
-                           double zmp_margin, WalkingParameters& walk) {
+                           double zmp_margin, WalkingParameters& walk,
+                           const FootholdSearch& search) {
   walk.initial_right = place_on_terrain(terrain, walk.initial_right, points, zmp_margin);
   walk.initial_left = place_on_terrain(terrain, walk.initial_left, points, zmp_margin);
-  for (Footstep& step : walk.footsteps)
-    step = place_on_terrain(terrain, step, points, zmp_margin);
+  Eigen::Vector2d right(walk.initial_right.x, walk.initial_right.y),
+      left(walk.initial_left.x, walk.initial_left.y);
+  for (std::size_t i = 0; i < walk.footsteps.size(); ++i) {
+    Eigen::Vector2d& from = (i % 2 == 0) == walk.right_foot_first ? right : left;
+    Footstep& step = walk.footsteps[i];
+    step = place_on_foothold(terrain, step, points, zmp_margin, search, from, walk.max_step_length);
+    from << step.x, step.y;
+  }
 }
 
 } // namespace plantar::walking

@@ -21,7 +21,8 @@ SolePoints sole_grid(double length, double width, int m);
 /// Places @p step (x, y, yaw kept) on @p terrain, as a rigid sole at rest: with h_i the ground
 /// heights under the points p_i (yawed by step.yaw about (x, y)), the plane
 ///   z = a + b x' + c y'   (x', y' the yawed sole axes, origin at (x, y))
-/// is the lowest one at the centre with h_i <= a + b x'_i + c y'_i for every point: the facet of
+/// is the lowest one at the centre with h_i <= a + b x'_i + c y'_i for every point (of planes as
+/// low there, e.g. through a point at the centre on a peak, the least tilted): the facet of
 /// the points' upper convex hull above the centre, through three points whose triangle holds
 /// the centre (brute force over the triples, O(n^4)). The tilt is R_y(pitch) R_x(roll) e_z =
 /// n = (-b, -c, 1) / |.| in the yawed frame: pitch = -atan(b), roll = asin(c / |(-b, -c, 1)|).
@@ -39,8 +40,44 @@ SolePoints sole_grid(double length, double width, int m);
 Footstep place_on_terrain(const contact::Terrain& terrain, const Footstep& step,
                           const SolePoints& points, double zmp_margin);
 
-/// place_on_terrain for the initial soles and every footstep of @p walk (modified in place).
+/// Signed distance (m) from the sole centre (0, 0) to the boundary of @p support (a convex
+/// polygon, counter-clockwise, 2 x m): min over its edges of the centre's distance to the edge's
+/// line, > 0 inside, 0 on an edge, < 0 outside (then a lower bound of minus the distance);
+/// -inf for fewer than 3 vertices.
+double centre_margin(const Eigen::Matrix2Xd& support);
+
+/// Foothold search (place_walk_on_terrain): each footstep may move horizontally by up to
+/// @c radius (m) to a placement whose support holds its centre better.
+struct FootholdSearch {
+  double radius = 0.0;   ///< m, >= 0; 0: the footsteps stay where planned
+  double spacing = 0.01; ///< m, > 0: candidates on a square grid of this spacing in the disk
+  /// rad, > 0: a candidate tilted more than this (and more than the plan's own placement) is
+  /// left out: a sole bridging a step's edge holds its centre well but rests on the edge line
+  double max_tilt = 0.05;
+};
+
+/// The angle (rad) between a placement's sole normal and the vertical, acos(cos(pitch) cos(roll)).
+double footstep_tilt(const Footstep& step);
+
+/// Places @p step as place_on_terrain does, at the candidate position (step.x + dx, step.y + dy),
+/// (dx, dy) on the grid of @p search in the disk of its radius, whose support holds the centre
+/// best: the largest min(centre_margin(support), zmp_margin), ties (to 1e-9 m) to the nearest
+/// to the plan. Candidates whose centre margin reaches @p zmp_margin are all good enough: the
+/// nearest of them is kept, so a ground where the plan's own placement is good leaves it there.
+/// A candidate farther than @p max_step_length (m) from @p swing_from (the swing foot's last
+/// placement, x, y), or tilted more than max(search.max_tilt, the plan's placement's tilt)
+/// (footstep_tilt), is left out; the plan's own position never is. (2 floor(r / s) + 1)^2
+/// candidates at most, each a place_on_terrain.
+Footstep place_on_foothold(const contact::Terrain& terrain, const Footstep& step,
+                           const SolePoints& points, double zmp_margin,
+                           const FootholdSearch& search, const Eigen::Vector2d& swing_from,
+                           double max_step_length);
+
+/// place_on_terrain for the initial soles and place_on_foothold for every footstep of @p walk
+/// (modified in place; the initial soles are where the robot stands, not moved; the steps stay
+/// within walk.max_step_length).
 void place_walk_on_terrain(const contact::Terrain& terrain, const SolePoints& points,
-                           double zmp_margin, WalkingParameters& walk);
+                           double zmp_margin, WalkingParameters& walk,
+                           const FootholdSearch& search = {});
 
 } // namespace plantar::walking

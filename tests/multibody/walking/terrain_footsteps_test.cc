@@ -3,8 +3,10 @@
 // realising the tilted, raised soles, and each placement's support polygon and ZMP target
 // (multibody/walking/support_polygon.h) against closed forms and dense searches.
 #include "contact/cylinder_terrain.h"
+#include "contact/flat_terrain.h"
 #include "contact/rough_terrain.h"
 #include "contact/slope_terrain.h"
+#include "contact/step_terrain.h"
 #include "contact/terrain.h"
 #include "multibody/data.h"
 #include "multibody/kinematics.h"
@@ -18,6 +20,7 @@
 #include <cmath>
 #include <cstdio>
 #include <gtest/gtest.h>
+#include <limits>
 #include <vector>
 
 namespace {
@@ -354,6 +357,130 @@ TEST(TerrainFootsteps, PlanHoldsTheZmpOnEachSupport) {
   EXPECT_GT(single, 900);
   EXPECT_LT(error, 1e-15);
   EXPECT_GT(largest_shift, 0.01); // the rough ground moves the targets
+}
+
+TEST(TerrainFootsteps, CentreMarginIsTheInscribedRadiusAtTheIncentre) {
+  // A triangle moved so that its incentre (a A + b B + c C) / (a + b + c), a the side opposite
+  // A, is the origin: the centre's margin is the inscribed radius 2 area / perimeter; a square
+  // of half side 0.04 around a point 0.01 off centre: 0.03; the origin outside by 0.02: < 0.
+  Eigen::Matrix2Xd t(2, 3);
+  t << -0.1, 0.12, 0.03, -0.05, -0.02, 0.07;
+  const double a = (t.col(1) - t.col(2)).norm(), b = (t.col(2) - t.col(0)).norm(),
+               c = (t.col(0) - t.col(1)).norm();
+  const Eigen::Vector2d incentre = (a * t.col(0) + b * t.col(1) + c * t.col(2)) / (a + b + c);
+  t.colwise() -= incentre;
+  EXPECT_NEAR(centre_margin(t), inscribed_radius(t), 1e-15);
+  Eigen::Matrix2Xd square(2, 4);
+  square << -0.04, 0.04, 0.04, -0.04, -0.04, -0.04, 0.04, 0.04;
+  square.row(0).array() += 0.01;
+  EXPECT_NEAR(centre_margin(square), 0.03, 1e-15);
+  square.row(0).array() += 0.05;
+  EXPECT_LT(centre_margin(square), 0.0);
+  EXPECT_EQ(centre_margin(square.leftCols(2)), -std::numeric_limits<double>::infinity());
+}
+
+TEST(TerrainFootsteps, FootholdSearchMovesASoleOffAStepEdge) {
+  // A sole (the 9 x 9 grid: rows every kLength / 8 = 0.02715 m along x, one through the centre)
+  // planned with its centre on the edge of a 2 cm step (upper side +x) rests level on the upper
+  // side with the centre on its support's edge (margin 0). Candidates (radius 3 cm, spacing
+  // 1 cm), with x_r the first grid row on the upper level (sole frame):
+  //   dx >= 0: level on the upper rows, margin x_r + dx... = 0 for dx = 0.01, 0.02 (x_r = 0)
+  //            and kLength / 8 for dx = 0.03 (x_r = -0.02715);
+  //   dx < 0:  bridging the edge, on the back row (-kLength / 2, low ground) and the row x_r
+  //            (upper level): margin min(x_r, kLength / 2) = kLength / 8 for dx = -0.01, -0.02,
+  //            2 kLength / 8 for dx = -0.03.
+  // The planned placement: of the planes through the centre's grid point (on the upper level),
+  // all as low there, the level one (the least tilted). The bridging candidates are tilted by
+  // asin(0.02 / (x_r + kLength / 2)) >= 0.12 rad, more than
+  // max_tilt (0.05 rad): the best level one is dx = 0.03 (margin kLength / 8), dy = 0 the
+  // nearest of its ties. With max_tilt 0.2 rad only dx = -0.03 reaches the 3 cm target: the sole
+  // bridges the edge, centre height 0.02 (kLength / 2) / (kLength / 2 + 2 kLength / 8) =
+  // 0.02 x 2 / 3 (the plane through the two rows). On flat ground every candidate holds the
+  // centre 6.9 cm inside: the plan stays.
+  const plantar::contact::StepTerrain step(0.02, 0.0, Eigen::Vector2d(0.3, 0.0), 0.0, 0.0);
+  const Footstep planned{0.3, -0.105, 0.0};
+  const FootholdSearch search{0.03, 0.01};
+  const Footstep stay = place_on_terrain(step, planned, kGrid, 0.03);
+  const Footstep moved =
+      place_on_foothold(step, planned, kGrid, 0.03, search, Eigen::Vector2d(0.0, -0.105), 0.45);
+  std::printf("on the edge: margin %.5f m; searched: x %.4f y %.4f z %.4f, margin %.5f m\n",
+              centre_margin(stay.support), moved.x, moved.y, moved.z, centre_margin(moved.support));
+  EXPECT_NEAR(centre_margin(stay.support), 0.0, 1e-12);
+  EXPECT_NEAR(moved.x, 0.33, 1e-15);
+  EXPECT_EQ(moved.y, planned.y);
+  EXPECT_NEAR(moved.z, 0.02, 1e-15);
+  EXPECT_EQ(footstep_tilt(moved), 0.0);
+  EXPECT_NEAR(centre_margin(moved.support), kLength / 8, 1e-12);
+  const FootholdSearch bridging{0.03, 0.01, 0.2};
+  const Footstep bridged =
+      place_on_foothold(step, planned, kGrid, 0.03, bridging, Eigen::Vector2d(0.0, -0.105), 0.45);
+  std::printf("max tilt 0.2 rad: x %.4f y %.4f z %.5f, tilt %.4f rad, margin %.5f m\n", bridged.x,
+              bridged.y, bridged.z, footstep_tilt(bridged), centre_margin(bridged.support));
+  EXPECT_NEAR(bridged.x, 0.27, 1e-15);
+  EXPECT_EQ(bridged.y, planned.y);
+  EXPECT_NEAR(bridged.z, 0.02 * 2.0 / 3.0, 1e-12);
+  // Tilted, the rows 3 kLength / 4 apart rise by 0.02: sin(tilt) = 0.02 / (3 kLength / 4).
+  EXPECT_NEAR(footstep_tilt(bridged), std::asin(0.02 / (3 * kLength / 4)), 1e-12);
+  EXPECT_NEAR(centre_margin(bridged.support), 2 * kLength / 8, 1e-12);
+  // The longest step: a swing from x = 0.6 (a step back) of at most 0.3 m reaches the plan
+  // (always allowed) and the candidates with dx >= 0 only: the best of those is dx = 0.03
+  // (margin kLength / 8), not the bridging dx = -0.03.
+  const Footstep back_step =
+      place_on_foothold(step, planned, kGrid, 0.03, bridging, Eigen::Vector2d(0.6, -0.105), 0.3);
+  EXPECT_NEAR(back_step.x, 0.33, 1e-15);
+  EXPECT_NEAR(centre_margin(back_step.support), kLength / 8, 1e-12);
+  const plantar::contact::FlatTerrain flat(0.0);
+  const Footstep level =
+      place_on_foothold(flat, planned, kGrid, 0.03, search, Eigen::Vector2d(0.0, -0.105), 0.45);
+  EXPECT_EQ(level.x, planned.x);
+  EXPECT_EQ(level.y, planned.y);
+  EXPECT_THROW(place_on_foothold(flat, planned, kGrid, 0.03, {0.03, 0.01, 0.0},
+                                 Eigen::Vector2d(0.0, -0.105), 0.45),
+               std::invalid_argument);
+  EXPECT_THROW(place_on_foothold(flat, planned, kGrid, 0.03, {-0.01, 0.01},
+                                 Eigen::Vector2d(0.0, -0.105), 0.45),
+               std::invalid_argument);
+}
+
+TEST(TerrainFootsteps, FootholdSearchHoldsTheCentresOnRoughGround) {
+  // The paper's walk placed on the rough ground by the 9 x 9 grid (a rigid sole that touches
+  // the ground anywhere): without a search most supports are thin triangles with the centre on
+  // an edge; with a 3 cm search every footstep's centre margin is at least its plan's (the plan
+  // is a candidate), each moves by at most 3 cm and every step stays within max_step_length.
+  const plantar::contact::RoughTerrain ground = rough_ground();
+  WalkingParameters planned, searched;
+  place_walk_on_terrain(ground, kGrid, 0.03, planned);
+  place_walk_on_terrain(ground, kGrid, 0.03, searched, {0.03, 0.01});
+  ASSERT_EQ(planned.footsteps.size(), searched.footsteps.size());
+  int held_before = 0, held_after = 0;
+  double worst_before = 1e9, worst_after = 1e9, sum_before = 0, sum_after = 0;
+  Eigen::Vector2d right(searched.initial_right.x, searched.initial_right.y),
+      left(searched.initial_left.x, searched.initial_left.y);
+  for (std::size_t i = 0; i < planned.footsteps.size(); ++i) {
+    const Footstep &p = planned.footsteps[i], &s = searched.footsteps[i];
+    const double before = centre_margin(p.support), after = centre_margin(s.support);
+    std::printf("step %zu: margin %.4f -> %.4f m, moved (%.3f, %.3f) m\n", i, before, after,
+                s.x - p.x, s.y - p.y);
+    EXPECT_GE(std::min(after, 0.03), std::min(before, 0.03) - 1e-9);
+    EXPECT_LE(std::hypot(s.x - p.x, s.y - p.y), 0.03 + 1e-12);
+    Eigen::Vector2d& from = (i % 2 == 0) == searched.right_foot_first ? right : left;
+    EXPECT_LE(std::hypot(s.x - from.x(), s.y - from.y()), searched.max_step_length + 1e-12);
+    from << s.x, s.y;
+    sum_before += std::clamp(before, 0.0, 0.03);
+    sum_after += std::clamp(after, 0.0, 0.03);
+    held_before += before >= 0.03 - 1e-9 ? 1 : 0;
+    held_after += after >= 0.03 - 1e-9 ? 1 : 0;
+    worst_before = std::min(worst_before, before);
+    worst_after = std::min(worst_after, after);
+  }
+  std::printf("centre 3 cm inside the support: %d of %zu footsteps planned, %d searched; "
+              "smallest margin %.4f -> %.4f m; sum of the margins (each clamped to [0, 3 cm]) "
+              "%.4f -> %.4f m\n",
+              held_before, planned.footsteps.size(), held_after, worst_before, worst_after,
+              sum_before, sum_after);
+  EXPECT_GT(held_after, held_before);
+  EXPECT_GT(sum_after, 3 * sum_before);
+  EXPECT_NO_THROW(check_walking_parameters(searched));
 }
 
 TEST(TerrainFootsteps, BadPointsAreReported) {
