@@ -15,6 +15,8 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
                                StartProducts start, ResidualHistory& history) {
   const int n3 = 3 * problem.n_contacts;
   SolverSettings chunk = settings;
+  warm_iterate_.head(n3) = p.head(n3); // the warm start, for a Newton attempt from it
+  const bool warm = settings.warm_start && p.head(n3).any();
   // The residual at the start (GS reports only its sweeps'); G^T p is unchanged by this, so
   // held products stay valid.
   products.compute_velocity(problem, p);
@@ -103,9 +105,12 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
   int newton_iterations = 0;
   SolverResult result;
   bool last_is_best = true, any_attempt = false;
-  const auto attempt = [&](bool from_switch, int budget, int stall, double rho_scale) {
-    if (from_switch)
+  enum class From { zero, switch_iterate, warm_start };
+  const auto attempt = [&](From from, int budget, int stall, double rho_scale) {
+    if (from == From::switch_iterate)
       p.head(n3) = switch_iterate_.head(n3);
+    else if (from == From::warm_start)
+      p.head(n3) = warm_iterate_.head(n3);
     else
       p.head(n3).setZero();
     chunk = settings;
@@ -130,20 +135,26 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
   };
   const int half = std::max(1, settings.max_iterations / 2);
   const int stall = settings.auto_newton_stall_iterations;
-  const SolverResult first = attempt(true, half, stall, 1.0);
+  const SolverResult first = attempt(From::switch_iterate, half, stall, 1.0);
+  const bool stopped = first.iterations < half;
+  // Stopped early, Newton from the warm start (the step before's impulses) with the stall test
+  // and the rest of the first half: on redundant rigid contacts (a compliant ankle's 9 x 9 grid)
+  // it can converge where Newton from Gauss-Seidel's iterate and from zero stall.
+  SolverResult from_warm = first;
+  if (stopped && warm && go_on(first))
+    from_warm = attempt(From::warm_start, half - first.iterations, stall, 1.0);
   // Newton from Gauss-Seidel's iterate can stall where Newton from zero converges (redundant
   // contacts of compliant ankles): a restart from zero with the other half.
-  if (go_on(first)) {
-    const SolverResult restart = attempt(false, settings.max_iterations - half, 0, 1.0);
-    const bool stopped = first.iterations < half;
+  if (go_on(from_warm)) {
+    const SolverResult restart = attempt(From::zero, settings.max_iterations - half, 0, 1.0);
     // Both failed after a stopped first attempt: Newton from zero with rho 10 x larger (the
     // walks' redundant rigid contacts converge there in tens of iterations where rho x 1 needs
     // thousands) with half the budget left; then the first attempt without the stall test.
     if (stopped && go_on(restart)) {
       const SolverResult stiff =
-          attempt(false, (settings.max_iterations - newton_iterations) / 2, 0, kRhoRetryScale);
+          attempt(From::zero, (settings.max_iterations - newton_iterations) / 2, 0, kRhoRetryScale);
       if (go_on(stiff))
-        attempt(true, settings.max_iterations - newton_iterations, 0, 1.0);
+        attempt(From::switch_iterate, settings.max_iterations - newton_iterations, 0, 1.0);
     }
   }
   if (!last_is_best)

@@ -17,8 +17,10 @@
 // switch_iteration, switch_rate); iterations counts GS sweeps plus Newton iterations.
 //
 // Newton from Gauss-Seidel's iterate has half of Newton's budget and stops early when it stalls
-// (settings.auto_newton_stall_iterations iterations without halving its residual); if it has not
-// converged, Newton restarts from zero with the other half, and the better of the two attempts
+// (settings.auto_newton_stall_iterations iterations without halving its residual); stopped so,
+// Newton runs from the warm start (when settings.warm_start and it is not zero) with the stall
+// test and the rest of that half. If neither converged, Newton restarts from zero with the other
+// half, and the better of the two attempts
 // (by residual) is kept. If the first attempt was stopped early and the restart failed too,
 // Newton restarts from zero with rho_k 10 x larger (SolverSettings::newton_rho_scale; half the
 // budget left; the walks' redundant rigid contacts converge there in tens of iterations), then
@@ -29,7 +31,7 @@
 // better of the two is returned (finished_by says which; iterations counts all three phases).
 //
 // It runs the facade's own GaussSeidelSolver and SemismoothNewtonSolver; its own workspace is
-// two sets of impulses (3 max_contacts each). solve() allocates nothing.
+// three sets of impulses (3 max_contacts each). solve() allocates nothing.
 
 #include "contact/gauss_seidel_solver.h"
 #include "contact/iterative_solver.h"
@@ -45,6 +47,7 @@ public:
   void resize(int max_contacts, int /*rigid_rank*/) override {
     best_newton_.setZero(3 * max_contacts);
     switch_iterate_.setZero(3 * max_contacts);
+    warm_iterate_.setZero(3 * max_contacts);
   }
   SolverResult solve(const ContactProblem& problem, const SolverSettings& settings,
                      Eigen::Ref<Eigen::VectorXd> impulses, DelassusProducts& products,
@@ -55,6 +58,7 @@ private:
   SemismoothNewtonSolver& newton_;
   Eigen::VectorXd best_newton_;    ///< the best Newton attempt's impulses so far, N s
   Eigen::VectorXd switch_iterate_; ///< Gauss-Seidel's impulses at the switch, N s
+  Eigen::VectorXd warm_iterate_;   ///< the solve's start (warm start), N s
 };
 
 } // namespace plantar::contact
