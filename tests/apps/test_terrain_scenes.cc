@@ -347,3 +347,57 @@ INSTANTIATE_TEST_SUITE_P(FootForms, TerrainAllocation, ::testing::ValuesIn(testi
 
 } // namespace
 } // namespace plantar::app
+
+namespace plantar::app {
+namespace {
+
+// The rigid walk on rough ground (RMS 5 mm) with contact points over the whole sole (9 x 9),
+// planned on the terrain with the DCM stabilizer and touchdown adaptation
+// (bench/robustness/rough_foothold.prm at dt 1 ms, theta 1): without a foothold search its
+// footsteps stand on bumps (centres 0-17.5 mm inside their supports) and it falls; with a 3 cm
+// search it completes, the sole's face never 1 mm in the ground (the warning level; the grid
+// sees the ground under it) and each sole ends within 1 cm of its planned (searched) placement.
+TEST(RoughFootholdWalk, CompletesWithTheSearchAndFallsWithout) {
+  const auto walk = [](const char* radius) {
+    return testing::load_humanoid_scene("walk_rough", {{"Robot/Foot forms", ""},
+                                                       {"Robot/Foot form", "rigid"},
+                                                       {"Robot/Rigid foot grid", "9"},
+                                                       {"Control/Stabilizer", "dcm"},
+                                                       {"Control/Touchdown adaptation", "true"},
+                                                       {"Walking/Touchdown velocity", "0.1"},
+                                                       {"Walking/Footstep placement", "terrain"},
+                                                       {"Walking/Foothold search radius", radius},
+                                                       {"Simulation/Theta", "1"}});
+  };
+  {
+    HumanoidSimulation simulation(walk("0"));
+    std::string what;
+    try {
+      simulation.run();
+    } catch (const std::runtime_error& e) {
+      what = e.what();
+    }
+    std::printf("no search: %s\n", what.c_str());
+    EXPECT_NE(what.find("the robot fell"), std::string::npos) << what;
+  }
+  const Scene scene = walk("0.03");
+  HumanoidSimulation simulation(scene);
+  simulation.run();
+  const HumanoidSummary& s = simulation.summary();
+  ASSERT_EQ(s.n_steps, simulation.n_steps());
+  ASSERT_EQ(s.validity.size(), 1);
+  const ValidityRecord& depth = s.validity.record(0);
+  const double drift = std::max((s.final_right_sole - s.planned_right_sole).head<2>().norm(),
+                                (s.final_left_sole - s.planned_left_sole).head<2>().norm());
+  std::printf("3 cm search: completes, %d landings, a_f %.3g m/s^2, deepest face %.3e m, soles "
+              "%.4f m from their plans at the end, %d unconverged solves\n",
+              s.n_landings, s.max_waist_acceleration_z_filtered, depth.peak, drift,
+              s.n_unconverged);
+  EXPECT_LT(depth.peak, scene.robot.rigid_sole_depth_warning);
+  EXPECT_FALSE(depth.warned());
+  EXPECT_EQ(s.n_unconverged, 0);
+  EXPECT_LT(drift, 0.01);
+}
+
+} // namespace
+} // namespace plantar::app
