@@ -409,12 +409,14 @@ void ContactParameters::declare(dealii::ParameterHandler& prm) {
                     "fraction of the tolerance is left as it is for that sweep (no local "
                     "solve, no pass over its columns); convergence still needs every contact "
                     "within the tolerance. 0 updates every contact; [0, 1).");
-  prm.declare_entry("Newton stall iterations",
-                    std::to_string(ContactParameters().newton_stall_iterations), Integer(0),
-                    "auto: Newton from Gauss-Seidel's iterate stops after this many iterations "
-                    "without halving its residual; if Newton from zero fails too, Newton from "
-                    "zero with a 10 x larger rho, then from Gauss-Seidel's iterate without the "
-                    "test (contact/auto_solver.h). 0: never stop early (nor the retries); >= 0.");
+  prm.declare_entry(
+      "Newton stall iterations", std::to_string(ContactParameters().newton_stall_iterations),
+      Integer(0),
+      "auto: Newton from Gauss-Seidel's iterate stops after this many iterations "
+      "without halving its residual; then Newton from the warm start (with the "
+      "test), from zero, and if that fails from zero with a 10 x larger rho, then "
+      "from Gauss-Seidel's iterate without the test (contact/auto_solver.h). 0: never "
+      "stop early (nor the retries); >= 0.");
   prm.declare_entry("Failure residual", number_text(default_failure_factor) + " x Tolerance",
                     Anything(),
                     "A solve that stops unconverged with a residual above this stops the run "

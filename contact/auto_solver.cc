@@ -100,8 +100,8 @@ SolverResult AutoSolver::solve(const ContactProblem& problem, const SolverSettin
   // Gauss-Seidel's iterate, for Newton's attempts from it and to resume from should Newton fail.
   const bool resumable = reason == SwitchReason::slow || reason == SwitchReason::stalled;
   switch_iterate_.head(n3) = p.head(n3);
-  // Newton attempts (auto_solver.h), each from Gauss-Seidel's iterate or from zero; the best so
-  // far (by residual) is kept in best_newton_.
+  // Newton attempts (auto_solver.h), each from Gauss-Seidel's iterate, the warm start or zero;
+  // the best so far (by residual) is kept in best_newton_.
   int newton_iterations = 0;
   SolverResult result;
   bool last_is_best = true, any_attempt = false;

@@ -1,11 +1,13 @@
 #pragma once
 // Loading a humanoid scene of scenes/ with overrides, for the tests of tests/apps.
 
+#include "apps/humanoid_simulation.h"
 #include "apps/scene.h"
 
 #include <deal.II/base/parameter_handler.h>
 
 #include <filesystem>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,6 +35,17 @@ load_humanoid_scene(const std::string& name,
   Scene scene;
   scene.parse(prm, file.parent_path());
   return scene;
+}
+
+/// Runs @p simulation to its end; returns the message of the std::runtime_error that stopped it
+/// (a fall, a numerical failure), empty when it completed.
+inline std::string run_to_stop(HumanoidSimulation& simulation) {
+  try {
+    simulation.run();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return {};
 }
 
 inline const char* const foot_forms[] = {"rigid", "compliant ankle", "fem sole"};

@@ -81,12 +81,7 @@ TEST(StabilizerNone, IsThePdPlaybackBitForBit) {
 TEST(PushRecovery, FallsWithoutTheStabilizerAndRecoversWithIt) {
   HumanoidSimulation playback(
       testing::load_humanoid_scene("push_stand", {{"Control/Stabilizer", "none"}}));
-  std::string failure;
-  try {
-    playback.run();
-  } catch (const std::runtime_error& e) {
-    failure = e.what();
-  }
+  const std::string failure = testing::run_to_stop(playback);
   std::printf("Stabilizer = none: %s\n", failure.c_str());
   EXPECT_NE(failure.find("the robot fell"), std::string::npos) << failure;
 

@@ -177,6 +177,15 @@ TEST(Reliability, WalkUnconvergedSolvesAreListed) {
   std::filesystem::remove_all(dir);
 }
 
+/// The numbers of a written problem or start (one per line).
+std::vector<double> numbers_of(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<double> numbers;
+  for (double x; in >> x;)
+    numbers.push_back(x);
+  return numbers;
+}
+
 TEST(Reliability, StiffSoleLargeStepSuggestsASettingThatWorks) {
   const Overrides stiff = {{"Robot/Foot form", "fem sole"},
                            {"Sole/Materials", "rubber: law=linear, E=1e12, nu=0.3"},
@@ -187,17 +196,10 @@ TEST(Reliability, StiffSoleLargeStepSuggestsASettingThatWorks) {
   std::string what;
   {
     HumanoidSimulation sim(load_humanoid_scene("drop", admm));
-    try {
-      sim.run();
-    } catch (const std::runtime_error& e) {
-      what = e.what();
-    }
+    what = testing::run_to_stop(sim);
     // The failed solve's problem, as written for replay (contact/siconos_writer.h): 3, n, the
     // dense W's header, its 9 n^2 entries, q = v_free + b e_n and mu, exactly the stepper's.
-    std::istringstream text(sim.failed_contact_problem());
-    std::vector<double> numbers;
-    for (double x; text >> x;)
-      numbers.push_back(x);
+    const std::vector<double> numbers = numbers_of(sim.failed_contact_problem());
     const contact::ContactProblem& problem = sim.stepper().problem();
     const int n = problem.n_contacts;
     ASSERT_GT(n, 0);
@@ -245,29 +247,15 @@ TEST(Reliability, StiffSoleLargeStepSuggestsASettingThatWorks) {
   EXPECT_NEAR(s.final_contact_force.z() / weight, 1.0, 0.01);
 }
 
-/// The numbers of a written problem or start (one per line).
-std::vector<double> numbers_of(const std::string& text) {
-  std::istringstream in(text);
-  std::vector<double> numbers;
-  for (double x; in >> x;)
-    numbers.push_back(x);
-  return numbers;
-}
-
 // A run stopped by a contact solve writes that solve's start next to its problem
 // (failed/warm_start.txt): 3, n, then the stepper's warm start bit for bit. The solve replayed
 // from it by a new solver with the run's settings ends as the run's did (iterations, residual):
-// the written problem and start are the whole solve. (auto, here with a budget of SETTINGS
-// sweeps, keeps nothing between solves; ADMM keeps its last rho, so its replay differs.)
+// the written problem and start are the whole solve. (auto, here with a budget of 10
+// iterations, keeps nothing between solves; ADMM keeps its last rho, so its replay differs.)
 TEST(Reliability, FailedSolveReplaysFromItsWrittenStart) {
   const Overrides small_budget = {{"Contact/Max iterations", "10"}};
   HumanoidSimulation sim(load_humanoid_scene("walk", small_budget));
-  std::string what;
-  try {
-    sim.run();
-  } catch (const std::runtime_error& e) {
-    what = e.what();
-  }
+  const std::string what = testing::run_to_stop(sim);
   ASSERT_FALSE(what.empty()) << "the run did not stop";
   const contact::ContactProblem& problem = sim.stepper().problem();
   const int n = problem.n_contacts;
@@ -426,12 +414,7 @@ TEST(Reliability, HyperelasticSoleJacobianGuard) {
   Overrides failing = overrides;
   failing.push_back({"Sole/Min jacobian", "0.999"});
   HumanoidSimulation sim(load_humanoid_scene("drop_nonlinear", failing));
-  std::string what;
-  try {
-    sim.run();
-  } catch (const std::runtime_error& e) {
-    what = e.what();
-  }
+  const std::string what = testing::run_to_stop(sim);
   std::printf("Min jacobian 0.999: %s\n", what.c_str());
   EXPECT_NE(what.find("step " + std::to_string(first_step) + ","), std::string::npos) << what;
   EXPECT_NE(what.find("< Sole/Min jacobian = 0.999"), std::string::npos) << what;

@@ -371,12 +371,7 @@ TEST(RoughFootholdWalk, CompletesWithTheSearchAndFallsWithout) {
   };
   {
     HumanoidSimulation simulation(walk("0"));
-    std::string what;
-    try {
-      simulation.run();
-    } catch (const std::runtime_error& e) {
-      what = e.what();
-    }
+    const std::string what = testing::run_to_stop(simulation);
     std::printf("no search: %s\n", what.c_str());
     EXPECT_NE(what.find("the robot fell"), std::string::npos) << what;
   }
