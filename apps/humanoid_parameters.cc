@@ -698,7 +698,15 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Theta", "1", Double(0.5, 1),
                     "Moreau-Jean theta, [0.5, 1]: weight of the step's end in the joint springs, "
                     "the sole forces and the position update. 1: the paper's eq. 4 (first "
-                    "order, damps stiff springs); 0.5: second order, no numerical damping.");
+                    "order, damps stiff springs); 0.5: second order, no numerical damping. The "
+                    "passive joints take Passive joint theta.");
+  prm.declare_entry(
+      "Passive joint theta", number_text(SimulationParameters{}.passive_joint_theta),
+      Double(0.5, 1),
+      "Moreau-Jean theta of the passive joints (Robot/Foot form = compliant ankle: the ankle "
+      "springs), [0.5, 1], in place of Theta for them. 1 (backward Euler) damps the foot's "
+      "fast overdamped mode on its spring, which at 0.5 rings at the step's frequency (the "
+      "contact force alternates by hundreds of N from step to step; docs/reproduction.md).");
   prm.declare_entry(
       "Duration", "0", Double(0, 3600),
       "Simulated time (s), [0, 3600]; 0: the whole reference (lean, walk) or 5 s plus the "
@@ -731,6 +739,7 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
 void SimulationParameters::parse(dealii::ParameterHandler& prm) {
   time_step = prm.get_double("Time step");
   theta = prm.get_double("Theta");
+  passive_joint_theta = prm.get_double("Passive joint theta");
   duration = prm.get_double("Duration");
   settle_time = prm.get_double("Settle time");
   release_height = prm.get_double("Release height");

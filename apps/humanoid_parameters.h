@@ -191,7 +191,8 @@ struct SimulationParameters {
   double push_magnitude = 0;                                 ///< impulse, N s, >= 0 (0: no push)
   double push_duration = 0.1;                                ///< s, > 0
   double time_step = 1e-3;                                   ///< dt, s, (0, 0.01]
-  double theta = 1.0;           ///< Moreau-Jean theta, [0.5, 1] (multibody/stepper.h)
+  double theta = 1.0;               ///< Moreau-Jean theta, [0.5, 1] (multibody/stepper.h)
+  double passive_joint_theta = 1.0; ///< theta of the passive (compliant) joints, [0.5, 1]
   double duration = 0;          ///< s, >= 0; 0: the whole reference (lean, walk), 5 s (stand, drop)
   double settle_time = 1.0;     ///< s, stand: time allowed to settle before the 1 mm window
   double release_height = 0.01; ///< m, drop: the lowest contact point above the ground, >= 0

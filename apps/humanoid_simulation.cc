@@ -135,6 +135,7 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
   multibody::StepperParameters stepper_parameters;
   stepper_parameters.time_step = dt;
   stepper_parameters.theta = scene_.simulation.theta;
+  stepper_parameters.passive_theta = scene_.simulation.passive_joint_theta;
   stepper_parameters.normal_bias.restitution = scene_.contact.restitution;
   stepper_parameters.normal_bias.position_correction = scene_.contact.position_correction;
   stepper_parameters.solver.solver = scene_.contact.solver;

@@ -38,6 +38,8 @@ void StepperParameters::validate() const {
     msg << "StepperParameters: contact_margin = " << contact_margin << " m, allowed [0, inf]";
   } else if (!(theta >= 0.5 && theta <= 1.0)) {
     msg << "StepperParameters: theta = " << theta << ", allowed [0.5, 1]";
+  } else if (!(passive_theta >= 0.5 && passive_theta <= 1.0)) {
+    msg << "StepperParameters: passive_theta = " << passive_theta << ", allowed [0.5, 1]";
   }
   if (!msg.str().empty()) {
     throw std::invalid_argument(msg.str());
@@ -72,6 +74,10 @@ void Stepper::resize_workspaces() {
   dv_.setZero(nv);
   bias_start_.setZero(nv);
   v_mid_.setZero(nv);
+  dof_theta_.setConstant(nv, parameters_.theta);
+  for (int iv = 0; iv < nv; ++iv)
+    if (model_.passive_stiffness[iv] > 0.0 || model_.passive_damping[iv] > 0.0)
+      dof_theta_[iv] = parameters_.passive_theta;
   impulses_.setZero(3 * max);
   warm_start_.setZero(3 * max);
   // The contact rows see only the contact bodies' 6-dof motions: a rigid factor of rank
@@ -183,6 +189,21 @@ int Stepper::add_deformable_patch(int body, const Eigen::Matrix3Xd& nodes, doubl
         << ")), " << n << " nodes (allowed >= 1, the patch's " << patch.n_nodes() << "), friction "
         << friction << " (allowed [0, inf))";
     throw std::invalid_argument(msg.str());
+  }
+  if (parameters_.passive_theta != parameters_.theta) {
+    for (int i = body; i > 0; i = model_.parent[i]) {
+      const int iv = model_.idx_v[i];
+      for (int d = 0; d < model_.nv_joint[i]; ++d) {
+        if (model_.passive_stiffness[iv + d] > 0.0 || model_.passive_damping[iv + d] > 0.0) {
+          std::ostringstream msg;
+          msg << "Stepper::add_deformable_patch: body " << body << " is moved by the passive joint "
+              << model_.joint_names[i] << " and passive_theta = " << parameters_.passive_theta
+              << " differs from theta = " << parameters_.theta
+              << " (a patch's node velocity follows one theta; allowed: equal values)";
+          throw std::invalid_argument(msg.str());
+        }
+      }
+    }
   }
   if (static_cast<int>(points_.size()) + n > parameters_.max_contacts) {
     throw std::invalid_argument(
@@ -393,7 +414,6 @@ void Stepper::free_motion(const Eigen::Ref<const Eigen::VectorXd>& q,
                           const Eigen::Ref<const Eigen::VectorXd>& v_ref) {
   const double dt = parameters_.time_step;
   const double theta = parameters_.theta;
-  const double theta_dt = theta * dt;
   // Free motion with linear-implicit springs at theta: M_eff v_free = r.
   nonlinear_effects(model_, data_, q, v); // also fills liMi, oMi, v
   crba_from_placements(model_, data_);
@@ -412,11 +432,13 @@ void Stepper::free_motion(const Eigen::Ref<const Eigen::VectorXd>& q,
     const double ks = model_.passive_stiffness[iv];
     const double ds = model_.passive_damping[iv];
     if (parameters_.implicit_gains) {
-      const double q_lag = q[iq] + theta * lag * v[iv];
+      const double th = dof_theta_[iv]; // theta, or passive_theta for a passive joint
+      const double lag_j = (1.0 - th) * dt, th_dt = th * dt;
+      const double q_lag = q[iq] + th * lag_j * v[iv];
       const double spring =
-          kp * (q_ref[iq] - lag * v_ref[iv] - q_lag) + ks * (model_.passive_rest[iv] - q_lag);
-      effective_mass_(iv, iv) += theta * dt * (kd + ds) + theta_dt * theta_dt * (kp + ks);
-      rhs_[iv] += dt * (spring + kd * v_ref[iv] - (1.0 - theta) * (kd + ds) * v[iv]);
+          kp * (q_ref[iq] - lag_j * v_ref[iv] - q_lag) + ks * (model_.passive_rest[iv] - q_lag);
+      effective_mass_(iv, iv) += th_dt * (kd + ds) + th_dt * th_dt * (kp + ks);
+      rhs_[iv] += dt * (spring + kd * v_ref[iv] - (1.0 - th) * (kd + ds) * v[iv]);
     } else {
       const double spring = kp * (q_ref[iq] - q[iq]) + ks * (model_.passive_rest[iv] - q[iq]);
       rhs_[iv] += dt * (spring + kd * (v_ref[iv] - v[iv]) - ds * v[iv]);
@@ -580,9 +602,8 @@ void Stepper::assemble(int n, const Eigen::Ref<const Eigen::VectorXd>& v) {
 }
 
 void Stepper::apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v) {
-  const double theta = parameters_.theta;
   if (n == 0) {
-    v_mid_ = (1.0 - theta) * v + theta * v_free_;
+    v_mid_ = v + dof_theta_.cwiseProduct(v_free_ - v);
     v = v_free_;
     return;
   }
@@ -603,8 +624,9 @@ void Stepper::apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v) {
     }
   }
   half_solve_transpose(dv_);
-  v_mid_ = (1.0 - theta) * v + theta * (v_free_ + dv_); // v_theta
-  v = v_free_ + dv_;
+  dv_ += v_free_;                                // v+
+  v_mid_ = v + dof_theta_.cwiseProduct(dv_ - v); // v_theta
+  v = dv_;
 }
 
 Eigen::Vector3d Stepper::total_contact_force() const {

@@ -24,7 +24,8 @@
 // the deformation-rate term -(U_prev - d) / (theta dt), the gap bias uses theta dt and the
 // free velocity gets (1-theta)/theta times the node's velocity at v. Free points keep
 // Moreau's impact law on v+. theta = 1/2 integrates linear springs (joints and pads) without
-// numerical damping, second order; theta = 1 damps them (first order).
+// numerical damping, second order; theta = 1 damps them (first order). The dofs of passive
+// joints (compliant ankles) use passive_theta instead of theta, in K, D, v_theta and q+.
 // With implicit_gains = false the springs are explicit instead (M_eff = M, forces at q, v):
 // kept to show that stiff gains diverge that way.
 //
@@ -86,6 +87,13 @@ struct StepperParameters {
   /// springs, the sole forces and the position update (1: eq. 4, first order, damps the stiff
   /// springs; 0.5: second order, no numerical damping of linear springs).
   double theta = 1.0;
+  /// theta of the passive joints (Model::passive_stiffness or passive_damping > 0, e.g. the
+  /// compliant ankle's springs), [0.5, 1], in place of theta for those degrees of freedom. A
+  /// light foot on a stiff damped spring has a fast overdamped mode (c dt / I >> 1) that theta
+  /// = 1/2 maps to nearly -1 per step (it rings at the step's frequency, under the contacts
+  /// too); 1 (backward Euler) damps it. A deformable patch below such a joint needs
+  /// passive_theta == theta (its node velocity follows one theta).
+  double passive_theta = 1.0;
   contact::NormalBiasParameters normal_bias; ///< restitution e, position correction
   contact::SolverSettings solver;            ///< contact solver (ADMM by default)
   /// Throw std::runtime_error when the contact solver does not converge (default: only count
@@ -222,7 +230,7 @@ private:
   int select_candidates();
   /// G, v_free,c, b, mu and the warm start of the n active contacts.
   void assemble(int n, const Eigen::Ref<const Eigen::VectorXd>& v);
-  /// v+ = v_free + M_eff^-1 J^T p; v_mid_ = v_theta.
+  /// v+ = v_free + M_eff^-1 J^T p; v_mid_ = v_theta (per dof: dof_theta_).
   void apply_impulses(int n, Eigen::Ref<Eigen::VectorXd> v);
   /// Adds the wall time since the last lap to @p bucket (profile_).
   void lap(double& bucket);
@@ -248,6 +256,7 @@ private:
   TreeFactorization factorization_; // M_eff = L^T D L = U U^T
   Eigen::MatrixXd dense_factor_;    // tree_factorization = false: U = L, M_eff = L L^T
   Eigen::VectorXd rhs_, v_free_, dv_, bias_start_, v_mid_;
+  Eigen::VectorXd dof_theta_; // nv: theta, or passive_theta for a passive joint's dofs
   // Per body carrying candidates ("slot"): the contact rows of its points are S(r) J_b with
   // J_b its 6 x nv Jacobian (body_origin_jacobian) and S(r) = R_c^T [I, -[r]x] (3 x 6).
   std::vector<int> body_slot_;                                          // per body, -1: none

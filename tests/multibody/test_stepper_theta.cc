@@ -7,6 +7,8 @@
 //   maximum compression and exit velocity against the closed form of the (damped) oscillator
 //   m x'' + k beta x' + k x = 0 that separates when the sole force k (x + beta x') is zero;
 // - the theta-weighted impulses: the node impulse is dt ((1-theta) F_prev + theta F);
+// - a theta per dof: passive joints (a light foot on a stiff damped spring) at passive_theta,
+//   the rest at theta, against the same scheme written densely; theta = 1/2 rings there;
 // - the steps allocate nothing (Eigen's malloc guard).
 #define EIGEN_RUNTIME_NO_MALLOC
 #include "coupling/pad_state.h"
@@ -44,6 +46,7 @@ SpringRun run_spring(double theta, double dt, double duration) {
   StepperParameters parameters;
   parameters.time_step = dt;
   parameters.theta = theta;
+  parameters.passive_theta = theta; // the spring is a passive joint
   Stepper stepper(model, parameters);
   Eigen::VectorXd q(3), v = Eigen::VectorXd::Zero(3);
   q << z_eq + x0, 0.0, 0.0;
@@ -93,6 +96,120 @@ TEST(ThetaMethod, JointSpringConvergesAtSecondOrderWithThetaOneHalf) {
       EXPECT_NEAR(order, 1.0, 0.15);
     }
   }
+}
+
+/// Two bodies on vertical prismatic joints in a chain: body 1 (m1) held by a PD spring-damper
+/// (kp, kd) to the world, body 2 (m2) on a passive spring-damper (ks, ds) to body 1 (a light
+/// foot under a compliant ankle). Linear: M = [m1 + m2, m2; m2, m2] in the relative
+/// coordinates, gravity a constant force.
+Model two_mass_chain(double m1, double m2, double ks, double ds) {
+  Model model;
+  model.add_world();
+  const Eigen::Matrix3d small = 1e-3 * Eigen::Matrix3d::Identity();
+  const int b1 = model.add_body(0, JointType::Prismatic, Eigen::Vector3d::UnitZ(), SE3(),
+                                Inertia(m1, Eigen::Vector3d::Zero(), small), "lift", "leg");
+  const int b2 = model.add_body(b1, JointType::Prismatic, Eigen::Vector3d::UnitZ(), SE3(),
+                                Inertia(m2, Eigen::Vector3d::Zero(), small), "spring", "foot");
+  model.passive_stiffness[model.idx_v[b2]] = ks;
+  model.passive_damping[model.idx_v[b2]] = ds;
+  model.actuated[model.idx_v[b2]] = false;
+  model.finalize();
+  return model;
+}
+
+/// The theta method with a theta per dof, written densely (Theta = diag(theta_j)):
+///   v_T = (I - Theta) v + Theta v+,  M (v+ - v) = dt (f_g + K (r - x - Theta dt v_T) - D v_T),
+///   x+ = x + dt v_T,
+/// with K = diag(kp, ks), D = diag(kd, ds), r = (q_ref, 0) (q_ref constant, v_ref = 0). One
+/// step maps (x, v) to (x+, v+) linearly plus a constant.
+Eigen::Vector4d dense_theta_step(const Eigen::Matrix2d& mass, const Eigen::Vector2d& gravity_force,
+                                 const Eigen::Matrix2d& k, const Eigen::Matrix2d& d,
+                                 const Eigen::Vector2d& rest, const Eigen::Vector2d& theta,
+                                 double dt, const Eigen::Vector4d& state) {
+  const Eigen::Matrix2d th = theta.asDiagonal(), one_minus = Eigen::Matrix2d::Identity() - th;
+  const Eigen::Vector2d x = state.head<2>(), v = state.tail<2>();
+  // M v+ - M v = dt (f_g + K (r - x) - (K Theta dt + D) ((I - Theta) v + Theta v+))
+  const Eigen::Matrix2d a = k * th * dt + d;
+  const Eigen::Matrix2d lhs = mass + dt * a * th;
+  const Eigen::Vector2d rhs = mass * v + dt * (gravity_force + k * (rest - x) - a * one_minus * v);
+  const Eigen::Vector2d v_plus = lhs.partialPivLu().solve(rhs);
+  Eigen::Vector4d next;
+  next << x + dt * (one_minus * v + th * v_plus), v_plus;
+  return next;
+}
+
+TEST(ThetaMethod, PassiveJointsTakeTheirOwnThetaAgainstTheDenseScheme) {
+  // A 0.5 kg foot on a stiff damped spring (c dt / m = 60 at dt = 1 ms: the fast mode's
+  // trapezoidal amplification is (1 - 30) / (1 + 30) = -0.935 per step) under a 30 kg leg on
+  // its PD servo.
+  const double m1 = 30.0, m2 = 0.5, ks = 40000.0, ds = 30000.0, kp = 2e5, kd = 2000.0;
+  const double dt = 1e-3, g = 9.81, q_ref = 0.01;
+  const Model model = two_mass_chain(m1, m2, ks, ds);
+  Eigen::Matrix2d mass, k = Eigen::Matrix2d::Zero(), d = Eigen::Matrix2d::Zero();
+  mass << m1 + m2, m2, m2, m2;
+  k.diagonal() << kp, ks;
+  d.diagonal() << kd, ds;
+  const Eigen::Vector2d gravity_force(-(m1 + m2) * g, -m2 * g), rest(q_ref, 0.0);
+  for (const double passive_theta : {0.5, 0.75, 1.0}) {
+    StepperParameters parameters;
+    parameters.time_step = dt;
+    parameters.theta = 0.5;
+    parameters.passive_theta = passive_theta;
+    Stepper stepper(model, parameters);
+    PdGains gains = PdGains::Zero(model);
+    gains.stiffness[0] = kp;
+    gains.damping[0] = kd;
+    stepper.set_gains(gains);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(2), v = Eigen::VectorXd::Zero(2);
+    v[1] = 0.2; // the foot moving on its spring
+    Eigen::Vector4d state(0.0, 0.0, 0.0, 0.2);
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(2);
+    Eigen::VectorXd reference(2);
+    reference << q_ref, 0.0;
+    double max_difference = 0.0, scale = 0.0;
+    int sign_changes = 0;
+    double previous_rate = 0.0;
+    for (int n = 0; n < 200; ++n) {
+      stepper.step(q, v, zero, reference, zero);
+      state = dense_theta_step(mass, gravity_force, k, d, rest, Eigen::Vector2d(0.5, passive_theta),
+                               dt, state);
+      Eigen::Vector4d mine;
+      mine << q, v;
+      max_difference = std::max(max_difference, (mine - state).cwiseAbs().maxCoeff());
+      scale = std::max(scale, state.cwiseAbs().maxCoeff());
+      if (n > 0 && n < 20 && v[1] * previous_rate < 0.0)
+        ++sign_changes; // the foot's rate on its spring over the first 20 steps
+      previous_rate = v[1];
+    }
+    std::printf("passive theta %.2f: max |stepper - dense| = %.2e (scale %.2e); the foot's "
+                "velocity changes sign %d times in 20 steps\n",
+                passive_theta, max_difference, scale, sign_changes);
+    EXPECT_LT(max_difference, 1e-12 * std::max(1.0, scale));
+    // The fast mode's factor per step, (1 + (1 - theta) lambda dt) / (1 - theta lambda dt) at
+    // lambda dt = -60: -0.935 at 1/2 (rings for many steps), -0.30 at 3/4 (a few), 0.016 at 1.
+    if (passive_theta == 0.5) {
+      EXPECT_GE(sign_changes, 15);
+    }
+    if (passive_theta == 1.0) {
+      EXPECT_LE(sign_changes, 1);
+    }
+  }
+}
+
+TEST(ThetaMethod, PassiveThetaDifferentFromThetaRefusesAPatchBelowThePassiveJoint) {
+  const Model model = two_mass_chain(30.0, 0.5, 40000.0, 300.0);
+  StepperParameters parameters;
+  parameters.theta = 0.5;
+  parameters.passive_theta = 1.0;
+  Stepper stepper(model, parameters);
+  coupling::PadState pad(1e-5 * Eigen::MatrixXd::Identity(3, 3));
+  const Eigen::Matrix3Xd node = Eigen::Matrix3Xd::Zero(3, 1);
+  EXPECT_THROW(stepper.add_deformable_patch(2, node, 0.5, pad), std::invalid_argument);
+  stepper.add_deformable_patch(1, node, 0.5, pad); // above the passive joint
+  parameters.passive_theta = 0.5;
+  Stepper same(model, parameters);
+  coupling::PadState pad2(1e-5 * Eigen::MatrixXd::Identity(3, 3));
+  same.add_deformable_patch(2, node, 0.5, pad2);
 }
 
 struct Bounce {
@@ -213,6 +330,10 @@ TEST(ThetaMethod, BadParametersAreRejected) {
   EXPECT_THROW(Stepper(model, parameters), std::invalid_argument);
   parameters.theta = 1.1;
   EXPECT_THROW(Stepper(model, parameters), std::invalid_argument);
+  parameters.theta = 1.0;
+  parameters.passive_theta = 0.49;
+  EXPECT_THROW(Stepper(model, parameters), std::invalid_argument);
+  parameters.passive_theta = 1.0;
   parameters.theta = 0.5;
   Stepper stepper(model, parameters);
   Eigen::Matrix3Xd nodes = Eigen::Matrix3Xd::Zero(3, 1);
