@@ -48,19 +48,29 @@ void ComEstimator::update(const Eigen::Ref<const Eigen::VectorXd>& encoders,
     weights_[0] /= sum;
     weights_[1] /= sum;
   }
+  std::array<Eigen::Vector3d, 2> anchors; // a_i = s_i,ref - s_i(q_est; p_b = 0)
   Eigen::Vector3d base_position = Eigen::Vector3d::Zero();
-  for (int foot = 0; foot < 2; ++foot)
-    base_position += weights_[foot] *
-                     (reference_soles[foot] -
-                      multibody::frame_placement(model_, data_, sole_frames_[foot]).translation);
-  const Eigen::Vector3d com = multibody::center_of_mass(model_, data_) + base_position;
+  for (int foot = 0; foot < 2; ++foot) {
+    anchors[foot] = reference_soles[foot] -
+                    multibody::frame_placement(model_, data_, sole_frames_[foot]).translation;
+    base_position += weights_[foot] * anchors[foot];
+  }
+  const Eigen::Vector3d com_in_base = multibody::center_of_mass(model_, data_);
+  const Eigen::Vector3d com = com_in_base + base_position;
   if (first_) {
     com_velocity_.setZero();
     first_ = false;
   } else {
-    com_velocity_ += filter_ * ((com - com_) / dt_ - com_velocity_);
+    // The change over the period with this period's weights on both ends: a change of the
+    // weights (a support switch) moves the anchor, not the robot.
+    Eigen::Vector3d change = com_in_base - com_in_base_;
+    for (int foot = 0; foot < 2; ++foot)
+      change += weights_[foot] * (anchors[foot] - anchors_[foot]);
+    com_velocity_ += filter_ * (change / dt_ - com_velocity_);
   }
   com_ = com;
+  com_in_base_ = com_in_base;
+  anchors_ = anchors;
 }
 
 void ComEstimator::set(const Eigen::Vector3d& com, const Eigen::Vector3d& com_velocity) {

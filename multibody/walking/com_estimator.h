@@ -7,7 +7,10 @@
 //          base position p_b so that the force-weighted anchor of the soles sits on the
 //          reference's:  p_b = sum_i w_i (s_i,ref - s_i(q_est; p_b = 0)),  w_i = f_i / sum f
 //          (feet with f_i < min_contact_force do not anchor; no loaded foot: the last weights)
-//   c = CoM(q_est),  c' = low-pass (time constant tau) of (c_n - c_{n-1}) / dt,
+//   c = CoM(q_est),  c' = low-pass (time constant tau) of the change over the period with
+//          the weights of its end on both ends, (CoM_0(q_n) - CoM_0(q_n-1) + sum_i w_i,n (a_i,n -
+//          a_i,n-1)) / dt (CoM_0: base at the origin; a_i = s_i,ref - s_i(q_est; p_b = 0)):
+//          a support switch moves the anchor, not the estimated velocity,
 //   DCM xi = c + c' / omega,  omega = sqrt(g / z_c).
 // Everything is sized by the constructor; update() allocates nothing.
 
@@ -58,6 +61,8 @@ private:
   bool first_ = true;
   std::array<double, 2> weights_{0.5, 0.5};
   Eigen::Vector3d com_ = Eigen::Vector3d::Zero(), com_velocity_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d com_in_base_ = Eigen::Vector3d::Zero(); ///< CoM(q_est; p_b = 0), last period
+  std::array<Eigen::Vector3d, 2> anchors_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
 };
 
 } // namespace plantar::walking

@@ -166,7 +166,7 @@ TEST_P(StabilizedWalk, SixStepsCompleteAndTheEstimateFollowsTheTruth) {
   EXPECT_LT(right, 0.01);
   EXPECT_LT(left, 0.01);
   // The estimate (encoders, IMU, contact anchoring) against the ground truth, bounds of
-  // docs/stabilizer.md (measured 1.1 / 7.1 / 1.0 mm for the CoM, 5.4 / 33 / 4.4 mm for the
+  // docs/stabilizer.md (measured 1.1 / 7.1 / 1.0 mm for the CoM, 4.7 / 32 / 4.0 mm for the
   // DCM): the compliant ankle's spring deflection is not sensed, hence its larger bound.
   const bool springs = std::string(GetParam()) == "compliant ankle";
   EXPECT_LT(s.max_com_estimate_error, springs ? 0.01 : 0.002);

@@ -2,7 +2,8 @@
 // CoM: HRP-2 at random poses (random base placement and joints) whose soles are where the
 // reference says, read by exact sensors, gives the true CoM; a known CoM velocity (a base
 // translation at constant speed) gives the true DCM once the filter has settled; the anchor
-// follows the loaded foot.
+// follows the loaded foot; a support switch onto a foot off its reference moves the CoM
+// estimate, not its velocity.
 #include "multibody/center_of_mass.h"
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
@@ -66,6 +67,54 @@ TEST(ComEstimator, ExactSensorsGiveTheTrueCentreOfMassAndDcm) {
               worst_com, worst_dcm);
   EXPECT_LT(worst_com, 1e-12);
   EXPECT_LT(worst_dcm, 1e-9);
+}
+
+// The robot moves at a known velocity while its support switches from the right foot to the left
+// and the reference puts the left sole 1 cm off where the kinematics find it (a foot that
+// landed off its plan): the CoM estimate jumps by that offset, the CoM velocity estimate must
+// not (it is the change over each period with one anchor; before, each half-centimetre step of
+// the anchor over a 1 ms period entered the velocity filter as 5 m/s).
+TEST(ComEstimator, ASupportSwitchMovesTheAnchorNotTheVelocity) {
+  const multibody::Model model =
+      multibody::build_model_from_urdf(multibody::test::model_path("hrp2/hrp2.urdf"));
+  const Humanoid humanoid(model, hrp2_description());
+  multibody::Data data(model);
+  const int imu = model.frame_id("CHEST_LINK1");
+  const double dt = 1e-3;
+  std::mt19937 rng(7);
+  const Eigen::VectorXd q0 = multibody::test::random_configuration(model, rng);
+  ComEstimatorParameters parameters;
+  parameters.velocity_time_constant = 0.002; // settled to round-off from zero by n = 90
+  ComEstimator estimator(model, humanoid, imu, parameters, dt);
+  const Eigen::Vector3d velocity(0.1, -0.05, 0.0), offset(0.0, 0.01, 0.0);
+  double worst_velocity = 0, jump = 0;
+  Eigen::Vector3d previous_error = Eigen::Vector3d::Zero();
+  for (int n = 0; n <= 200; ++n) {
+    Eigen::VectorXd q = q0;
+    q.head<3>() += n * dt * velocity;
+    multibody::forward_kinematics(model, data, q);
+    Eigen::VectorXd encoders(humanoid.n_joints());
+    for (int j = 0; j < humanoid.n_joints(); ++j)
+      encoders[j] = q[model.idx_q[humanoid.joints[j]]];
+    const Eigen::Matrix3d orientation = multibody::frame_placement(model, data, imu).rotation;
+    const std::array<Eigen::Vector3d, 2> soles{
+        multibody::frame_placement(model, data, humanoid.sole_frames[0]).translation,
+        multibody::frame_placement(model, data, humanoid.sole_frames[1]).translation + offset};
+    // Right foot alone, 5 ms of both (weights 1/2), then the left alone.
+    const std::array<double, 2> forces{n < 105 ? 300.0 : 0.0, n < 100 ? 0.0 : 300.0};
+    estimator.update(encoders, orientation, soles, forces);
+    const Eigen::Vector3d error = estimator.com() - multibody::center_of_mass(model, data);
+    jump = std::max(jump, (error - previous_error).norm());
+    previous_error = error;
+    if (n >= 90) // the filter has settled on the true velocity
+      worst_velocity = std::max(worst_velocity, (estimator.com_velocity() - velocity).norm());
+  }
+  std::printf("support switch onto a foot 1 cm off its reference: CoM estimate jumps by at most "
+              "%.4f m per period, its velocity stays within %.2e m/s of the truth\n",
+              jump, worst_velocity);
+  EXPECT_NEAR(previous_error.norm(), 0.01, 1e-12); // anchored on the left foot: off by 1 cm
+  EXPECT_NEAR(jump, 0.005, 1e-12);                 // two jumps of half the offset
+  EXPECT_LT(worst_velocity, 1e-9);
 }
 
 } // namespace
