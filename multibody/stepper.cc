@@ -59,6 +59,10 @@ Stepper::Stepper(const Model& model, const StepperParameters& parameters,
   const std::optional<double> level = terrain.level_height();
   level_ground_ = level.has_value();
   level_ = level.value_or(0.0);
+  dof_theta_.setConstant(model.nv, parameters_.theta);
+  for (int iv = 0; iv < model.nv; ++iv)
+    if (model.passive_stiffness[iv] > 0.0 || model.passive_damping[iv] > 0.0)
+      dof_theta_[iv] = parameters_.passive_theta;
   resize_workspaces();
 }
 
@@ -74,10 +78,6 @@ void Stepper::resize_workspaces() {
   dv_.setZero(nv);
   bias_start_.setZero(nv);
   v_mid_.setZero(nv);
-  dof_theta_.setConstant(nv, parameters_.theta);
-  for (int iv = 0; iv < nv; ++iv)
-    if (model_.passive_stiffness[iv] > 0.0 || model_.passive_damping[iv] > 0.0)
-      dof_theta_[iv] = parameters_.passive_theta;
   impulses_.setZero(3 * max);
   warm_start_.setZero(3 * max);
   // The contact rows see only the contact bodies' 6-dof motions: a rigid factor of rank
@@ -190,19 +190,15 @@ int Stepper::add_deformable_patch(int body, const Eigen::Matrix3Xd& nodes, doubl
         << friction << " (allowed [0, inf))";
     throw std::invalid_argument(msg.str());
   }
-  if (parameters_.passive_theta != parameters_.theta) {
-    for (int i = body; i > 0; i = model_.parent[i]) {
-      const int iv = model_.idx_v[i];
-      for (int d = 0; d < model_.nv_joint[i]; ++d) {
-        if (model_.passive_stiffness[iv + d] > 0.0 || model_.passive_damping[iv + d] > 0.0) {
-          std::ostringstream msg;
-          msg << "Stepper::add_deformable_patch: body " << body << " is moved by the passive joint "
-              << model_.joint_names[i] << " and passive_theta = " << parameters_.passive_theta
-              << " differs from theta = " << parameters_.theta
-              << " (a patch's node velocity follows one theta; allowed: equal values)";
-          throw std::invalid_argument(msg.str());
-        }
-      }
+  for (int i = body; i > 0; i = model_.parent[i]) { // the joints that move the patch
+    if ((dof_theta_.segment(model_.idx_v[i], model_.nv_joint[i]).array() != parameters_.theta)
+            .any()) {
+      std::ostringstream msg;
+      msg << "Stepper::add_deformable_patch: body " << body << " is moved by the passive joint "
+          << model_.joint_names[i] << " and passive_theta = " << parameters_.passive_theta
+          << " differs from theta = " << parameters_.theta
+          << " (a patch's node velocity follows one theta; allowed: equal values)";
+      throw std::invalid_argument(msg.str());
     }
   }
   if (static_cast<int>(points_.size()) + n > parameters_.max_contacts) {

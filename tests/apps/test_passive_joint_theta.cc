@@ -39,16 +39,15 @@ Ringing force_ringing(const std::string& form, const std::string& theta,
   HumanoidSimulation simulation(scene);
   double previous = 0.0, sum = 0.0, total = 0.0;
   int n = 0;
-  while (simulation.steps_done() < simulation.n_steps()) {
-    simulation.step();
-    const double f = simulation.foot_report(0).force.z() + simulation.foot_report(1).force.z();
-    if (simulation.time() > 0.2 + 1e-9) {
+  simulation.run([&](const HumanoidSimulation& s) {
+    const double f = s.foot_report(0).force.z() + s.foot_report(1).force.z();
+    if (s.time() > 0.2 + 1e-9) {
       sum += (f - previous) * (f - previous);
       total += f;
       ++n;
     }
     previous = f;
-  }
+  });
   const Ringing r{std::sqrt(sum / n), total / n,
                   simulation.summary().robot_mass * simulation.model().gravity.norm()};
   std::printf("%s, theta %s, passive theta %s: F_z mean %.2f N (weight %.2f N), rms change "

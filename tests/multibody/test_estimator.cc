@@ -27,6 +27,28 @@ HumanoidDescription hrp2_description() {
   return d;
 }
 
+/// What exact sensors read at q: the joints, the IMU frame's orientation and the soles where
+/// the kinematics put them (the reference's soles for a robot exactly on its plan).
+struct ExactReadings {
+  Eigen::VectorXd encoders;
+  Eigen::Matrix3d orientation;
+  std::array<Eigen::Vector3d, 2> soles;
+};
+
+/// @p data receives the kinematics at @p q.
+ExactReadings exact_readings(const multibody::Model& model, const Humanoid& humanoid, int imu,
+                             const Eigen::VectorXd& q, multibody::Data& data) {
+  multibody::forward_kinematics(model, data, q);
+  ExactReadings r;
+  r.encoders.resize(humanoid.n_joints());
+  for (int j = 0; j < humanoid.n_joints(); ++j)
+    r.encoders[j] = q[model.idx_q[humanoid.joints[j]]];
+  r.orientation = multibody::frame_placement(model, data, imu).rotation;
+  for (int foot = 0; foot < 2; ++foot)
+    r.soles[foot] = multibody::frame_placement(model, data, humanoid.sole_frames[foot]).translation;
+  return r;
+}
+
 TEST(ComEstimator, ExactSensorsGiveTheTrueCentreOfMassAndDcm) {
   const multibody::Model model =
       multibody::build_model_from_urdf(multibody::test::model_path("hrp2/hrp2.urdf"));
@@ -45,17 +67,10 @@ TEST(ComEstimator, ExactSensorsGiveTheTrueCentreOfMassAndDcm) {
     for (int n = 0; n <= 200; ++n) {
       Eigen::VectorXd q = q0;
       q.head<3>() += n * dt * velocity;
-      multibody::forward_kinematics(model, data, q);
-      Eigen::VectorXd encoders(humanoid.n_joints());
-      for (int j = 0; j < humanoid.n_joints(); ++j)
-        encoders[j] = q[model.idx_q[humanoid.joints[j]]];
-      const Eigen::Matrix3d orientation = multibody::frame_placement(model, data, imu).rotation;
-      const std::array<Eigen::Vector3d, 2> soles{
-          multibody::frame_placement(model, data, humanoid.sole_frames[0]).translation,
-          multibody::frame_placement(model, data, humanoid.sole_frames[1]).translation};
+      const ExactReadings r = exact_readings(model, humanoid, imu, q, data);
       // Only the right foot loaded during the first half, then both.
       const std::array<double, 2> forces{300.0, n < 100 ? 0.0 : 250.0};
-      estimator.update(encoders, orientation, soles, forces);
+      estimator.update(r.encoders, r.orientation, r.soles, forces);
       const Eigen::Vector3d com = multibody::center_of_mass(model, data);
       worst_com = std::max(worst_com, (estimator.com() - com).norm());
       if (n == 200) // the CoM moves with the base: c' = velocity
@@ -92,17 +107,11 @@ TEST(ComEstimator, ASupportSwitchMovesTheAnchorNotTheVelocity) {
   for (int n = 0; n <= 200; ++n) {
     Eigen::VectorXd q = q0;
     q.head<3>() += n * dt * velocity;
-    multibody::forward_kinematics(model, data, q);
-    Eigen::VectorXd encoders(humanoid.n_joints());
-    for (int j = 0; j < humanoid.n_joints(); ++j)
-      encoders[j] = q[model.idx_q[humanoid.joints[j]]];
-    const Eigen::Matrix3d orientation = multibody::frame_placement(model, data, imu).rotation;
-    const std::array<Eigen::Vector3d, 2> soles{
-        multibody::frame_placement(model, data, humanoid.sole_frames[0]).translation,
-        multibody::frame_placement(model, data, humanoid.sole_frames[1]).translation + offset};
+    ExactReadings r = exact_readings(model, humanoid, imu, q, data);
+    r.soles[1] += offset;
     // Right foot alone, 5 ms of both (weights 1/2), then the left alone.
     const std::array<double, 2> forces{n < 105 ? 300.0 : 0.0, n < 100 ? 0.0 : 300.0};
-    estimator.update(encoders, orientation, soles, forces);
+    estimator.update(r.encoders, r.orientation, r.soles, forces);
     const Eigen::Vector3d error = estimator.com() - multibody::center_of_mass(model, data);
     jump = std::max(jump, (error - previous_error).norm());
     previous_error = error;
