@@ -634,6 +634,15 @@ void WalkingSceneParameters::declare(dealii::ParameterHandler& prm) {
                     "ZMP support margin inside (else as far inside as the candidates allow), the "
                     "nearest such to the plan; the steps stay within Max step length; 0: the "
                     "footsteps stay where planned (docs/terrain.md), [0, 0.1].");
+  prm.declare_entry("Swing ground margin", number_text(d.swing_ground_margin), Double(0, 0.05),
+                    "Footstep placement = terrain: each swing sole stays this far above the ground "
+                    "between its placements (m; or as high as the plan lifts it, if lower), by "
+                    "lifting the foot before it moves over higher ground (Footstep::lift_fraction, "
+                    "docs/terrain.md), [0, 0.05].");
+  prm.declare_entry("Min lift fraction", number_text(d.min_lift_fraction), Double(0, 0.45),
+                    "Every swing moves only vertically over at least this fraction of the single "
+                    "support at each end (lift-off and touchdown), [0, 0.45]: over a ground the "
+                    "plan does not know, the foot rises before it moves; 0: the paper's swing.");
   prm.declare_entry("Foothold search spacing", number_text(w.foothold.spacing), Double(0.001, 0.05),
                     "Grid spacing of the foothold search's candidate positions (m), [0.001, "
                     "0.05]; (2 radius / spacing + 1)^2 placements per footstep at most.");
@@ -652,6 +661,8 @@ void WalkingSceneParameters::parse(dealii::ParameterHandler& prm) {
   walk.standing_after = prm.get_double("Standing after");
   walk.step_height = prm.get_double("Step height");
   walk.touchdown_velocity = prm.get_double("Touchdown velocity");
+  walk.swing_ground_margin = prm.get_double("Swing ground margin");
+  walk.min_lift_fraction = prm.get_double("Min lift fraction");
   walk.max_step_length = prm.get_double("Max step length");
   walk.right_foot_first = prm.get_bool("Right foot first");
   walk.initial_right = parse_one(prm.get("Initial right sole"), "Walking/Initial right sole");

@@ -46,6 +46,13 @@ void check_walking_parameters(const WalkingParameters& p) {
   }
   require(p.ground_clearance >= 0.0 && p.ground_clearance <= 0.1, "ground_clearance",
           p.ground_clearance, "[0, 0.1] m");
+  require(p.min_lift_fraction >= 0.0 && p.min_lift_fraction <= 0.45, "min_lift_fraction",
+          p.min_lift_fraction, "[0, 0.45]");
+  require(p.swing_ground_margin >= 0.0 && p.swing_ground_margin <= 0.05, "swing_ground_margin",
+          p.swing_ground_margin, "[0, 0.05] m");
+  for (const Footstep& f : p.footsteps)
+    require(f.lift_fraction >= 0.0 && f.lift_fraction <= 0.45, "footstep lift_fraction",
+            f.lift_fraction, "[0, 0.45]");
   require(p.max_step_length > 0.0, "max_step_length", p.max_step_length, "(0, inf) m");
   Footstep right = p.initial_right, left = p.initial_left;
   for (size_t i = 0; i < p.footsteps.size(); ++i) {
@@ -188,7 +195,8 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
       const Footstep& target = p.footsteps[i];
       if (time < ss_end) { // single support: swing foot in the air
         const double tau = (time - ss_start[i]) / p.single_support_time;
-        const double s = quintic_transition(tau)(0);
+        const double f = std::max(target.lift_fraction, p.min_lift_fraction);
+        const double s = quintic_transition((tau - f) / (1.0 - 2.0 * f))(0);
         Footstep moving;
         moving.x = swing.x + s * (target.x - swing.x);
         moving.y = swing.y + s * (target.y - swing.y);

@@ -22,6 +22,11 @@ struct Footstep {
   /// The sole's support polygon: (x, y) in the sole frame [m], counter-clockwise (2 x m);
   /// empty: the whole sole.
   Eigen::Matrix2Xd support{};
+  /// The swing onto this footstep moves only vertically over this fraction of the single
+  /// support at each end, [0, 0.45]: its horizontal motion (and tilt, yaw) follows
+  /// quintic_transition((tau - f) / (1 - 2 f)), so that it crosses the ground between the two
+  /// placements above it (swing_lift_fraction, terrain_footsteps.h); 0 on flat ground.
+  double lift_fraction = 0.0;
 };
 
 /// The horizontal world position of a footstep's ZMP target [m]:
@@ -60,6 +65,13 @@ struct WalkingParameters {
   /// the feet. The cart-table height becomes com_height + ground_clearance (the CoM height
   /// above the ground, where the ZMP is).
   double ground_clearance = 0.0;
+  /// On a terrain (terrain_footsteps.h): the swing sole stays this far above the ground between
+  /// its placements (or as high as its planned height above its planned ground, if lower)
+  /// [m], [0, 0.05].
+  double swing_ground_margin = 0.01;
+  /// The least Footstep::lift_fraction of every swing, [0, 0.45]: a swing over a ground the
+  /// plan does not know lifts before it moves (0: the paper's swing).
+  double min_lift_fraction = 0.0;
   Footstep initial_right{0.0, -0.105, 0.0}; ///< right sole at the start
   Footstep initial_left{0.0, 0.105, 0.0}; ///< left sole at the start (straight-walk tests: +-0.105)
   /// Landing placements of the successive swing feet (alternating, first = right if

@@ -197,18 +197,84 @@ Footstep place_on_foothold(const contact::Terrain& terrain, const Footstep& step
   return best;
 }
 
+namespace {
+
+/// Whether the swing from @p from onto @p to with lift fraction @p f keeps every point of
+/// @p footprint (sole frame) above the ground as swing_lift_fraction states.
+bool swing_clears(const contact::Terrain& terrain, const Footstep& from, const Footstep& to,
+                  const SolePoints& footprint, const WalkingParameters& walk, double f) {
+  const int n = 200;
+  for (int k = 0; k <= n; ++k) {
+    const double tau = double(k) / n;
+    const double s = quintic_transition((tau - f) / (1.0 - 2.0 * f))(0);
+    if (s <= 0.0 || s >= 1.0)
+      continue; // on its own placement, lifted: its lowest points rest on the ground below
+    const double ground = from.z + s * (to.z - from.z);
+    const double z = ground + swing_foot_height(walk, tau)(0);
+    const Eigen::Matrix3d rotation = footstep_rotation(
+        from.yaw + s * std::remainder(to.yaw - from.yaw, 2 * M_PI),
+        from.pitch + s * (to.pitch - from.pitch), from.roll + s * (to.roll - from.roll));
+    const Eigen::Vector3d centre(from.x + s * (to.x - from.x), from.y + s * (to.y - from.y), z);
+    // Near a placement, as high above it as the swing has lifted the sole.
+    const double required = std::min(walk.swing_ground_margin, z - (tau < 0.5 ? from.z : to.z));
+    for (Eigen::Index i = 0; i < footprint.cols(); ++i) {
+      const Eigen::Vector3d p =
+          centre + rotation * Eigen::Vector3d(footprint(0, i), footprint(1, i), 0.0);
+      if (p.z() - terrain.height(p.x(), p.y()) < required - 1e-9)
+        return false;
+    }
+  }
+  return true;
+}
+
+} // namespace
+
+double swing_lift_fraction(const contact::Terrain& terrain, const Footstep& from,
+                           const Footstep& to, const SolePoints& points,
+                           const WalkingParameters& walk) {
+  if (points.cols() < 1)
+    throw std::invalid_argument("swing_lift_fraction: no sole points");
+  // A grid of about 1 cm over the points' bounding box.
+  const Eigen::Vector2d low = points.rowwise().minCoeff(), high = points.rowwise().maxCoeff();
+  const int nx = std::max(2, static_cast<int>(std::ceil((high.x() - low.x()) / 0.01)) + 1);
+  const int ny = std::max(2, static_cast<int>(std::ceil((high.y() - low.y()) / 0.01)) + 1);
+  SolePoints footprint(2, nx * ny);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      footprint.col(i * ny + j) << low.x() + (high.x() - low.x()) * i / (nx - 1),
+          low.y() + (high.y() - low.y()) * j / (ny - 1);
+  if (swing_clears(terrain, from, to, footprint, walk, 0.0))
+    return 0.0;
+  const double most = 0.45;
+  if (!swing_clears(terrain, from, to, footprint, walk, most))
+    throw std::runtime_error(
+        "the swing from (" + std::to_string(from.x) + ", " + std::to_string(from.y) + ") to (" +
+        std::to_string(to.x) + ", " + std::to_string(to.y) +
+        ") m does not clear the ground between them by Walking/Swing ground margin = " +
+        std::to_string(walk.swing_ground_margin) + " m even lifting the foot over " +
+        std::to_string(most) + " of its swing: raise Walking/Step height (" +
+        std::to_string(walk.step_height) + " m)");
+  double lower = 0.0, upper = most;
+  while (upper - lower > 1e-3) {
+    const double middle = 0.5 * (lower + upper);
+    (swing_clears(terrain, from, to, footprint, walk, middle) ? upper : lower) = middle;
+  }
+  return upper;
+}
+
 void place_walk_on_terrain(const contact::Terrain& terrain, const SolePoints& points,
                            double zmp_margin, WalkingParameters& walk,
                            const FootholdSearch& search) {
   walk.initial_right = place_on_terrain(terrain, walk.initial_right, points, zmp_margin);
   walk.initial_left = place_on_terrain(terrain, walk.initial_left, points, zmp_margin);
-  Eigen::Vector2d right(walk.initial_right.x, walk.initial_right.y),
-      left(walk.initial_left.x, walk.initial_left.y);
+  Footstep right = walk.initial_right, left = walk.initial_left;
   for (std::size_t i = 0; i < walk.footsteps.size(); ++i) {
-    Eigen::Vector2d& from = (i % 2 == 0) == walk.right_foot_first ? right : left;
+    Footstep& from = (i % 2 == 0) == walk.right_foot_first ? right : left;
     Footstep& step = walk.footsteps[i];
-    step = place_on_foothold(terrain, step, points, zmp_margin, search, from, walk.max_step_length);
-    from << step.x, step.y;
+    step = place_on_foothold(terrain, step, points, zmp_margin, search,
+                             Eigen::Vector2d(from.x, from.y), walk.max_step_length);
+    step.lift_fraction = swing_lift_fraction(terrain, from, step, points, walk);
+    from = step;
   }
 }
 

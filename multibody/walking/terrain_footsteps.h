@@ -73,9 +73,26 @@ Footstep place_on_foothold(const contact::Terrain& terrain, const Footstep& step
                            const FootholdSearch& search, const Eigen::Vector2d& swing_from,
                            double max_step_length);
 
+/// The lift fraction f of the swing from @p from onto @p to (Footstep::lift_fraction) on
+/// @p terrain: the smallest f in [0, 0.45] (bisection to 1e-3; the sole is higher at every point
+/// of its path the larger f) for which the sole's footprint stays above the ground along the
+/// swing of make_footstep_plan (201 instants of the single support): with z(tau) the sole
+/// centre's height, z_n the nearer placement's (from.z for tau < 1/2, else to.z) and R(tau) its
+/// orientation, every point q of a grid of about 1 cm over the bounding box of @p points
+/// satisfies
+///   z + [R q]_z - h(x + [R q]_x, y + [R q]_y) >= min(walk.swing_ground_margin, z - z_n).
+/// At a placement the sole rests with its lowest points on the ground, so the condition binds
+/// only where the footprint moves over other ground: 0 on flat ground, > 0 where a toe starts
+/// near a riser, on a step down, and where a bump lies in the path.
+/// @throws std::runtime_error when f = 0.45 does not clear the ground (raise Step height).
+double swing_lift_fraction(const contact::Terrain& terrain, const Footstep& from,
+                           const Footstep& to, const SolePoints& points,
+                           const WalkingParameters& walk);
+
 /// place_on_terrain for the initial soles and place_on_foothold for every footstep of @p walk
 /// (modified in place; the initial soles are where the robot stands, not moved; the steps stay
-/// within walk.max_step_length).
+/// within walk.max_step_length), then each footstep's swing_lift_fraction from the same foot's
+/// previous placement.
 void place_walk_on_terrain(const contact::Terrain& terrain, const SolePoints& points,
                            double zmp_margin, WalkingParameters& walk,
                            const FootholdSearch& search = {});

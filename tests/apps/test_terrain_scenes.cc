@@ -394,5 +394,53 @@ TEST(RoughFootholdWalk, CompletesWithTheSearchAndFallsWithout) {
   EXPECT_LT(drift, 0.01);
 }
 
+// The robustness matrix's 2 cm step (bench/robustness/unplanned_step.prm, planned_step.prm) at
+// dt 1 ms, theta 1. The right foot's second swing starts with its toe 6 mm behind the riser.
+Scene step_walk(const char* scene, const char* form,
+                std::vector<std::pair<std::string, std::string>> overrides = {}) {
+  overrides.insert(overrides.end(), {{"Robot/Foot forms", ""},
+                                     {"Robot/Foot form", form},
+                                     {"Simulation/Time step", "0.001"},
+                                     {"Simulation/Theta", "1"}});
+  return testing::load_humanoid_scene(std::string("../bench/robustness/") + scene, overrides);
+}
+
+// Planned on the step, the FEM sole's swing lifts before it moves (Footstep::lift_fraction,
+// terrain_footsteps.h): it completes, no node 1 mm in the ground. With the paper's swing it
+// stopped at 3.33 s with the swing toe 5.9 mm into the riser (docs/reproduction.md).
+TEST(StepWalks, PlannedStepFemSoleLiftsOverTheRiser) {
+  HumanoidSimulation simulation(step_walk("planned_step", "fem sole"));
+  simulation.run();
+  const HumanoidSummary& s = simulation.summary();
+  const double drift = std::max((s.final_right_sole - s.planned_right_sole).head<2>().norm(),
+                                (s.final_left_sole - s.planned_left_sole).head<2>().norm());
+  std::printf("planned step, FEM sole: completes, a_f %.3g m/s^2, deepest node %.3e m, soles %.4f "
+              "m from their plans\n",
+              s.max_waist_acceleration_z_filtered, s.max_penetration, drift);
+  EXPECT_EQ(s.n_steps, simulation.n_steps());
+  EXPECT_LT(s.max_penetration, 1e-3);
+  EXPECT_LT(drift, 0.01);
+  EXPECT_EQ(s.n_unconverged, 0);
+}
+
+// Over the step the plan does not know, the rigid feet with the paper's swing stop with the
+// sole's face 5 mm in the step (the trailing toe runs into the riser); lifting over a fifth
+// of each swing first (Walking/Min lift fraction = 0.2, the matrix's setting) they complete.
+TEST(StepWalks, UnplannedStepRigidFeetCompleteWhenTheSwingLiftsFirst) {
+  HumanoidSimulation paper(
+      step_walk("unplanned_step", "rigid", {{"Walking/Min lift fraction", "0"}}));
+  const std::string what = testing::run_to_stop(paper);
+  std::printf("paper's swing: %s\n", what.c_str());
+  EXPECT_NE(what.find("depth (m) of the rigid sole's face in the ground"), std::string::npos)
+      << what;
+  HumanoidSimulation lifted(step_walk("unplanned_step", "rigid"));
+  lifted.run();
+  const HumanoidSummary& s = lifted.summary();
+  std::printf("lift fraction 0.2: completes, a_f %.3g m/s^2, largest landing %.4g N\n",
+              s.max_waist_acceleration_z_filtered, s.max_landing_peak_force);
+  EXPECT_EQ(s.n_steps, lifted.n_steps());
+  EXPECT_EQ(s.n_unconverged, 0);
+}
+
 } // namespace
 } // namespace plantar::app

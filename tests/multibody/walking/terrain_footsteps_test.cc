@@ -496,3 +496,160 @@ TEST(TerrainFootsteps, BadPointsAreReported) {
 }
 
 } // namespace
+
+/// A wall of height 0.1 m over 0.19 < x < 0.21 on a level ground.
+class WallTerrain : public plantar::contact::Terrain {
+public:
+  double height(double x, double) const override { return x > 0.19 && x < 0.21 ? 0.1 : 0.0; }
+  Eigen::Vector2d gradient(double, double) const override { return Eigen::Vector2d::Zero(); }
+};
+
+/// The sample at the nearer end of the swing of @p foot holding sample @p k (planned height
+/// above its ground > 0 between them).
+int lift_side(const FootstepPlan& plan, int foot, int k) {
+  const Eigen::MatrixX3d& sole = foot == 0 ? plan.right_sole : plan.left_sole;
+  auto up = [&](int i) { return sole(i, 2) - plan.ground(i, foot) > 0.0; };
+  int a = k, b = k;
+  while (a > 0 && up(a - 1))
+    --a;
+  while (b + 1 < plan.n_samples && up(b + 1))
+    ++b;
+  return k - a <= b - k ? a - 1 : b + 1;
+}
+
+/// The worst (clearance - required) over the swings of @p walk's plan (only the swing onto
+/// footstep @p step if >= 0) sampled every 1 ms, on a 2 mm grid of the whole sole (m; >= 0:
+/// every point clears the ground by min(walk.swing_ground_margin, the sole's height above the
+/// nearer of its two placements)).
+double worst_swing_clearance(const plantar::contact::Terrain& terrain, WalkingParameters walk,
+                             int step = -1) {
+  walk.period = 0.001;
+  const FootstepPlan plan = make_footstep_plan(walk);
+  const double start = walk.standing_before + walk.initial_double_support_time +
+                       step * (walk.single_support_time + walk.double_support_time);
+  const int nx = 109, ny = 70; // 2 mm over 0.2172 x 0.138
+  double worst = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < plan.n_samples; ++k)
+    for (int foot = 0; foot < 2; ++foot) {
+      if (step >= 0 && (plan.time(k) < start || plan.time(k) > start + walk.single_support_time))
+        continue;
+      const Eigen::MatrixX3d& sole = foot == 0 ? plan.right_sole : plan.left_sole;
+      const double lift = sole(k, 2) - plan.ground(k, foot);
+      if (lift <= 0.0)
+        continue; // on its placement
+      // The nearer placement's height: the ground at the swing's start or end.
+      const int k_near = lift_side(plan, foot, k);
+      const double near = plan.ground(k_near, foot);
+      const Eigen::Vector2d tilt = (foot == 0 ? plan.right_tilt : plan.left_tilt).row(k);
+      const Eigen::Matrix3d rotation =
+          footstep_rotation((foot == 0 ? plan.right_yaw : plan.left_yaw)(k), tilt(1), tilt(0));
+      const double required = std::min(walk.swing_ground_margin, sole(k, 2) - near);
+      for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < ny; ++j) {
+          const Eigen::Vector3d p =
+              sole.row(k).transpose() +
+              rotation * Eigen::Vector3d(kLength * (double(i) / (nx - 1) - 0.5),
+                                         kWidth * (double(j) / (ny - 1) - 0.5), 0.0);
+          worst = std::min(worst, p.z() - terrain.height(p.x(), p.y()) - required);
+        }
+    }
+  return worst;
+}
+
+TEST(SwingLiftFraction, TheSwingClearsAStepAndIsTheLeastThatDoes) {
+  // The robustness matrix's 2 cm step (edge at x = 0.25 m, a 2 mm C1 ramp) planned on: the
+  // right toe starts 6 mm behind the riser (0.135 + kLength / 2 = 0.2436 m). With the paper's
+  // swing (f = 0) the toe meets the riser 7 mm up: the plan's swing runs into the step.
+  const plantar::contact::StepTerrain step(0.02, 0.0, Eigen::Vector2d(0.25, 0.0), 0.0, 0.002);
+  WalkingParameters walk;
+  walk.touchdown_velocity = 0.1;
+  WalkingParameters unlifted = walk;
+  place_walk_on_terrain(step, kGrid, 0.03, walk);
+  for (const Footstep& f : walk.footsteps)
+    std::printf("footstep x %.3f y %.3f z %.4f: lift fraction %.3f\n", f.x, f.y, f.z,
+                f.lift_fraction);
+  unlifted.initial_right = walk.initial_right;
+  unlifted.initial_left = walk.initial_left;
+  unlifted.footsteps = walk.footsteps;
+  for (Footstep& f : unlifted.footsteps)
+    f.lift_fraction = 0.0;
+  const double lifted = worst_swing_clearance(step, walk);
+  const double paper = worst_swing_clearance(step, unlifted);
+  std::printf("worst clearance - required: %.5f m lifted, %.5f m with the paper's swing\n", lifted,
+              paper);
+  EXPECT_LT(paper, -0.01); // into the riser
+  // The planner samples 201 instants on a 1 cm grid: between them the sole rises by under 1 mm.
+  EXPECT_GT(lifted, -1e-3);
+  // Only the third swing lifts (the right foot from x = 0.135 onto the step, its toe 6 mm behind
+  // the riser): the left one from x = 0 reaches the edge near its apex; the others stay on one
+  // level.
+  for (std::size_t i = 0; i < walk.footsteps.size(); ++i)
+    if (i == 2)
+      EXPECT_GT(walk.footsteps[i].lift_fraction, 0.1);
+    else
+      EXPECT_EQ(walk.footsteps[i].lift_fraction, 0.0) << i;
+  // The least: 0.01 less runs the right toe into the riser.
+  WalkingParameters less = walk;
+  less.footsteps[2].lift_fraction -= 0.01;
+  const double worst = worst_swing_clearance(step, less, 2);
+  std::printf("at f - 0.01: worst clearance - required %.6f m\n", worst);
+  EXPECT_LT(worst, -1e-3);
+}
+
+TEST(SwingLiftFraction, ZeroOnFlatGroundAndAWallTooHighIsAnError) {
+  const plantar::contact::FlatTerrain flat(0.0);
+  WalkingParameters walk;
+  place_walk_on_terrain(flat, kGrid, 0.03, walk);
+  for (const Footstep& f : walk.footsteps)
+    EXPECT_EQ(f.lift_fraction, 0.0);
+  // A 10 cm wall between two placements, a 7 cm apex.
+  const WallTerrain wall;
+  const Footstep from{0.0, -0.105, 0.0}, to{0.4, -0.105, 0.0};
+  try {
+    swing_lift_fraction(wall, from, to, kGrid, walk);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("Step height (0.070000 m)"), std::string::npos)
+        << e.what();
+  }
+  walk.step_height = 0.15; // the apex clears it
+  const double f = swing_lift_fraction(wall, from, to, kGrid, walk);
+  EXPECT_GT(f, 0.0);
+  EXPECT_LT(f, 0.45);
+}
+
+TEST(SwingLiftFraction, TheFootOnlyRisesAndDescendsOverTheLiftFraction) {
+  // make_footstep_plan with f = 0.25 on the first step: the right sole stays at its start
+  // (x, y) for tau <= f, is at its target for tau >= 1 - f, and its height is the f = 0 plan's.
+  WalkingParameters walk;
+  walk.period = 0.001;
+  walk.touchdown_velocity = 0.1;
+  const FootstepPlan paper = make_footstep_plan(walk);
+  walk.footsteps[0].lift_fraction = 0.25;
+  const FootstepPlan lifted = make_footstep_plan(walk);
+  const double start = walk.standing_before + walk.initial_double_support_time;
+  int before = 0, after = 0, between = 0;
+  for (int k = 0; k < lifted.n_samples; ++k) {
+    EXPECT_EQ(lifted.right_sole(k, 2), paper.right_sole(k, 2)) << k;
+    const double tau = (lifted.time(k) - start) / walk.single_support_time;
+    if (tau < 0.0 || tau > 1.0)
+      continue;
+    const double x = lifted.right_sole(k, 0);
+    if (tau <= 0.25) {
+      EXPECT_EQ(x, walk.initial_right.x) << tau;
+      ++before;
+    } else if (tau >= 0.75) {
+      EXPECT_NEAR(x, walk.footsteps[0].x, 1e-15) << tau;
+      ++after;
+    } else {
+      EXPECT_GE(x, walk.initial_right.x);
+      EXPECT_LE(x, walk.footsteps[0].x + 1e-15);
+      between += x > walk.initial_right.x && x < walk.footsteps[0].x;
+    }
+  }
+  EXPECT_GT(before, 150);
+  EXPECT_GT(after, 150);
+  EXPECT_GT(between, 350);
+  walk.footsteps[0].lift_fraction = 0.5;
+  EXPECT_THROW(make_footstep_plan(walk), std::invalid_argument);
+}
