@@ -3,6 +3,8 @@
 #include "apps/scene.h"
 #include "multibody/walking/ankle_compensation.h"
 
+#include <algorithm>
+
 namespace plantar::app {
 
 std::array<std::string, 3> ankle_spring_joints(const std::string& foot_link) {
@@ -30,13 +32,35 @@ void CompliantAnkleFoot::plan(const multibody::Model& reference_model,
   const RobotParameters& robot = robot_;
   if (!robot.ankle_deflection_compensation)
     return;
-  const auto deflection =
+  deflection_ =
       walking::compensate_ankle_deflection(reference_model, humanoid, robot.ankle_compliance_centre,
                                            robot.ankle_angular_stiffness,
                                            robot.ankle_linear_stiffness, reference, robot.leg_ik)
           .deflection;
-  initial_deflection_ = deflection.row(0).transpose();
-  final_deflection_ = deflection.bottomRows<1>().transpose();
+  period_ = reference.period;
+  initial_deflection_ = deflection_.row(0).transpose();
+  final_deflection_ = deflection_.bottomRows<1>().transpose();
+}
+
+void CompliantAnkleFoot::set_reference_state(double t, Eigen::Ref<Eigen::VectorXd> q) const {
+  const Eigen::Index n = deflection_.rows();
+  if (n == 0)
+    return;
+  const double position = std::clamp(t / period_, 0.0, double(n - 1));
+  const Eigen::Index k = std::min<Eigen::Index>(static_cast<Eigen::Index>(position), n - 1);
+  const Eigen::Index k1 = std::min<Eigen::Index>(k + 1, n - 1);
+  const double w = position - double(k);
+  for (int j = 0; j < 6; ++j)
+    q[spring_q_[j]] = (1 - w) * deflection_(k, j) + w * deflection_(k1, j);
+}
+
+void CompliantAnkleFoot::add_contacts(double friction) {
+  RigidFoot::add_contacts(friction);
+  for (int foot = 0; foot < 2; ++foot) {
+    const auto joints = ankle_spring_joints(robot_.humanoid.foot_links[foot]);
+    for (int i = 0; i < 3; ++i)
+      spring_q_[3 * foot + i] = model_->idx_q[model_->joint_id(joints[i])];
+  }
 }
 
 void CompliantAnkleFoot::set_state(bool at_end, Eigen::VectorXd& q) const {

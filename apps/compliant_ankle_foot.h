@@ -23,16 +23,27 @@ public:
             walking::JointReference& reference) override;
   /// The springs' deflection (compensated ankles), else leaves @p q.
   void set_state(bool at_end, Eigen::VectorXd& q) const override;
+  /// The springs at the deflection the compensation predicts at t (linear between the
+  /// reference's samples); else leaves @p q.
+  void set_reference_state(double t, Eigen::Ref<Eigen::VectorXd> q) const override;
   /// foot_stiffness: the ankle's linear spring (in series with rigid contacts).
   void summarize(HumanoidSummary& summary) const override {
     summary.foot_stiffness = robot_.ankle_linear_stiffness;
   }
 
+protected:
+  /// The rigid contacts, then the springs' coordinates in q.
+  void add_contacts(double friction) override;
+
 private:
   RobotParameters robot_;
+  std::array<int, 6> spring_q_{}; ///< idx_q of (z, pitch, roll) of the right, then left foot
   /// Compensated ankles: spring deflection (u, theta_p, theta_r per foot) at t = 0 and at the
   /// end; empty: none.
   Eigen::VectorXd initial_deflection_, final_deflection_;
+  /// The predicted deflection at every sample of the reference (n x 6) and its period (s).
+  Eigen::Matrix<double, Eigen::Dynamic, 6> deflection_;
+  double period_ = 0;
 };
 
 } // namespace plantar::app

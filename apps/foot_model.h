@@ -71,6 +71,12 @@ public:
   /// Sets this form's own coordinates of @p q (size model.nq): their state at t = 0, or
   /// (@p at_end) the planned one at the end.
   virtual void set_state(bool at_end, Eigen::VectorXd& q) const { (void)at_end, (void)q; }
+  /// Sets this form's own coordinates of the reference configuration @p q (size model.nq) to
+  /// the plan's at time @p t (s), so that the reference's soles are the planned feet (the
+  /// balance loop's contact test, touchdown adaptation and anchors). No heap allocation.
+  virtual void set_reference_state(double t, Eigen::Ref<Eigen::VectorXd> q) const {
+    (void)t, (void)q;
+  }
   /// After a step (@p data: kinematics of the step's end). No heap allocation. Throws
   /// std::runtime_error naming the foot on failure.
   virtual void update(const multibody::Data& data) { (void)data; }

@@ -99,6 +99,10 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
     out << "lean: commanded roll " << s.commanded_roll * deg << " deg, measured "
         << s.final_roll * deg << " deg, difference " << (s.commanded_roll - s.final_roll) * deg
         << " deg (max over the run " << s.max_roll_difference * deg << " deg)\n";
+  if (scene.control.balance.touchdown.enabled)
+    out << "touchdown adaptation: " << s.early_touchdowns << " early, " << s.late_touchdowns
+        << " late touchdowns, ground levels found up to " << s.max_touchdown_level * 1e3
+        << " mm from the plan\n";
   out << "right sole at the end: " << s.final_right_sole.transpose() << " m (planned "
       << s.planned_right_sole.transpose() << ")\n"
       << "left sole at the end: " << s.final_left_sole.transpose() << " m (planned "

@@ -284,6 +284,16 @@ void HumanoidSimulation::reference_at(double t, Eigen::Ref<Eigen::VectorXd> q_ou
     q_out[joint_q_[j]] = angles_[j];
 }
 
+std::array<Eigen::Vector3d, 2> HumanoidSimulation::reference_soles(double t) {
+  Eigen::VectorXd q = q_ref_;
+  reference_at(t, q);
+  foot_model_->set_reference_state(t, q);
+  multibody::Data data(model_);
+  multibody::forward_kinematics(model_, data, q);
+  return {multibody::frame_placement(model_, data, sole_frames_[0]).translation,
+          multibody::frame_placement(model_, data, sole_frames_[1]).translation};
+}
+
 void HumanoidSimulation::fail(const std::string& what) const {
   std::ostringstream msg;
   msg << to_string(scene_.type) << " (" << to_string(scene_.robot.foot_form) << "): step " << step_
@@ -298,6 +308,7 @@ void HumanoidSimulation::step() {
   const double t_next = (step_ + 1) * dt;
   reference_at(t_next, q_ref_);
   if (balance_) {
+    foot_model_->set_reference_state(t_next, q_ref_);
     acceleration_ = (v_ - v_previous_) / dt;
     for (int foot = 0; foot < 2; ++foot) {
       // [f; sum x × f] about the world origin, at the contact points' heights.
@@ -308,6 +319,11 @@ void HumanoidSimulation::step() {
     balance_->set_planned_supports(reference_.support_at(0, t_next),
                                    reference_.support_at(1, t_next));
     balance_->update(q_, v_, acceleration_, ground_wrenches_, q_ref_);
+    const walking::TouchdownAdaptation& touchdown = balance_->touchdown();
+    summary_.early_touchdowns = touchdown.early_touchdowns();
+    summary_.late_touchdowns = touchdown.late_touchdowns();
+    summary_.max_touchdown_level =
+        std::max(summary_.max_touchdown_level, touchdown.levels().cwiseAbs().maxCoeff());
     v_previous_ = v_;
   }
   const SimulationParameters& sim = scene_.simulation;

@@ -115,6 +115,10 @@ public:
   /// The balance loop of Control/Stabilizer = dcm (sensors, estimator, stabilizer); nullptr
   /// for none.
   const walking::BalanceController* balance() const { return balance_.get(); }
+  /// The reference's sole frame origins (right, left; world, m) at time @p t as the balance
+  /// loop reads them: the reference configuration with the foot form's own coordinates at the
+  /// plan's state (FootModel::set_reference_state). For tests and diagnostics (allocates).
+  std::array<Eigen::Vector3d, 2> reference_soles(double t);
   /// Calls @p hook at the end of every step() whose count is a multiple of @p every (>= 1)
   /// and at the last step, after that step's failure checks. The hook may allocate.
   void set_output_hook(int every, std::function<void(const HumanoidSimulation&)> hook) {

@@ -55,7 +55,10 @@ struct HumanoidSummary {
   /// Hz: the accelerometer's cut-off used; 0: raw (0 set, or at or above 1 / (2 dt))
   double accelerometer_bandwidth = 0;
   // Landings of both feet (apps/landing_detector.h, landings.csv):
-  int n_landings = 0;                    ///< touchdowns detected
+  int n_landings = 0; ///< touchdowns detected
+  // Control/Touchdown adaptation (multibody/walking/touchdown_adaptation.h):
+  int early_touchdowns = 0, late_touchdowns = 0; ///< both feet
+  double max_touchdown_level = 0;        ///< m, largest |ground level found - plan| of a foot
   double max_landing_peak_force = 0;     ///< N, largest peak F_z of a landing window
   double max_landing_impulse = 0;        ///< N s, largest impulse of a landing window
   double max_landing_acceleration_z = 0; ///< largest filtered |a_z| in a landing window

@@ -113,8 +113,10 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
       multibody::center_of_mass_jacobian(model_, true_data_) * v;
   if (parameters_.estimate == StateEstimate::ground_truth)
     estimator_.set(com_true, com_true_velocity);
-  else
+  else {
+    estimator_.set_unsensed(q_ref); // e.g. ankle springs at the plan's deflection
     estimator_.update(readings.encoders, readings.imu.orientation, soles, normal);
+  }
   const Eigen::Vector2d dcm = estimator_.dcm(omega_).head<2>();
   const Eigen::Vector2d dcm_true = (com_true + com_true_velocity / omega_).head<2>();
   statistics_.dcm_error = dcm - dcm_ref;

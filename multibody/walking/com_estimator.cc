@@ -20,6 +20,19 @@ ComEstimator::ComEstimator(const multibody::Model& model, const Humanoid& humano
     throw std::invalid_argument("ComEstimator: dt > 0 and a velocity time constant >= 0 needed");
   for (int joint : humanoid.joints)
     joint_q_.push_back(model.idx_q[joint]);
+  std::vector<bool> sensed(model.nq, false);
+  for (int k = 0; k < 7; ++k)
+    sensed[k] = true; // the base
+  for (int k : joint_q_)
+    sensed[k] = true;
+  for (int k = 0; k < model.nq; ++k)
+    if (!sensed[k])
+      unsensed_q_.push_back(k);
+}
+
+void ComEstimator::set_unsensed(const Eigen::Ref<const Eigen::VectorXd>& q) {
+  for (int k : unsensed_q_)
+    q_[k] = q[k];
 }
 
 void ComEstimator::update(const Eigen::Ref<const Eigen::VectorXd>& encoders,

@@ -43,6 +43,10 @@ public:
               const Eigen::Matrix3d& imu_orientation,
               const std::array<Eigen::Vector3d, 2>& reference_soles,
               const std::array<double, 2>& normal_forces);
+  /// The coordinates no encoder reads (passive joints, e.g. compliant ankles' springs; not the
+  /// base) taken from @p q (nq) for the next updates: the plan's predicted values (default: at
+  /// rest, neutral). No heap allocation.
+  void set_unsensed(const Eigen::Ref<const Eigen::VectorXd>& q);
   /// Replaces the estimate by a given CoM and CoM velocity (the ground-truth option).
   void set(const Eigen::Vector3d& com, const Eigen::Vector3d& com_velocity);
   const Eigen::Vector3d& com() const { return com_; }                   ///< m, world
@@ -54,7 +58,7 @@ private:
   ComEstimatorParameters parameters_;
   multibody::Data data_;
   Eigen::VectorXd q_;
-  std::vector<int> joint_q_;
+  std::vector<int> joint_q_, unsensed_q_;
   int imu_frame_;
   std::array<int, 2> sole_frames_;
   double dt_, filter_;

@@ -442,5 +442,48 @@ TEST(StepWalks, UnplannedStepRigidFeetCompleteWhenTheSwingLiftsFirst) {
   EXPECT_EQ(s.n_unconverged, 0);
 }
 
+// The balance loop reads the reference's soles for its contact test, the touchdown adaptation
+// and the estimator's anchors. With compensated compliant ankles the reference legs end short
+// of the planned feet by the springs' predicted deflection (u = F / k_z under the foot's share
+// of the weight); the reference's springs are set to that deflection
+// (FootModel::set_reference_state), so that its soles are the planned feet: in the middle of
+// each single support the stance sole is on its footstep (walk.prm's plan) at the ground height
+// of t = 0. Before, the springs stayed at their t = 0 deflection (half the weight on each foot)
+// and the stance sole was 5-9 mm off: the touchdown adaptation took every swing's start and
+// landing for an early or late touchdown, and the compliant ankle fell on rough ground and on
+// both steps (docs/reproduction.md).
+TEST(CompliantAnkleBalance, ReferenceSolesAreThePlannedFeet) {
+  const Scene scene = testing::load_humanoid_scene("walk", {{"Robot/Foot forms", ""},
+                                                            {"Robot/Foot form", "compliant ankle"},
+                                                            {"Control/Stabilizer", "dcm"}});
+  HumanoidSimulation simulation(scene);
+  const walking::WalkingParameters& walk = scene.walking.walk;
+  const std::array<Eigen::Vector3d, 2> start = simulation.reference_soles(0.0);
+  std::array<walking::Footstep, 2> on = {walk.initial_right, walk.initial_left};
+  double worst = 0;
+  for (std::size_t i = 0; i < walk.footsteps.size(); ++i) {
+    const int swing = (i % 2 == 0) == walk.right_foot_first ? 0 : 1, stance = 1 - swing;
+    const double t = walk.standing_before + walk.initial_double_support_time +
+                     i * (walk.single_support_time + walk.double_support_time) +
+                     0.5 * walk.single_support_time;
+    const Eigen::Vector3d sole = simulation.reference_soles(t)[stance];
+    const Eigen::Vector3d planned(on[stance].x, on[stance].y, start[stance].z());
+    std::printf("step %zu, t = %.3f s: stance sole %.3e m from its footstep\n", i, t,
+                (sole - planned).norm());
+    worst = std::max(worst, (sole - planned).norm());
+    on[swing] = walk.footsteps[i];
+  }
+  EXPECT_LT(worst, 1e-4);
+  // The estimator's legs carry the same predicted deflection (ComEstimator::set_unsensed): its
+  // CoM follows the truth to 6.2 mm over the walk (15.2 mm with its springs at rest: the
+  // vertical deflection under the robot's weight, 14 mm, is not in the encoders).
+  simulation.run();
+  const walking::BalanceStatistics& s = simulation.balance()->statistics();
+  std::printf("stabilized walk: CoM estimate error %.4f m, DCM estimate error %.4f m\n",
+              s.max_com_estimate_error, s.max_dcm_estimate_error);
+  EXPECT_LT(s.max_com_estimate_error, 0.008);
+  EXPECT_LT(s.max_dcm_estimate_error, 0.03);
+}
+
 } // namespace
 } // namespace plantar::app
