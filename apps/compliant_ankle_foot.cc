@@ -38,8 +38,6 @@ void CompliantAnkleFoot::plan(const multibody::Model& reference_model,
                                            robot.ankle_linear_stiffness, reference, robot.leg_ik)
           .deflection;
   period_ = reference.period;
-  initial_deflection_ = deflection_.row(0).transpose();
-  final_deflection_ = deflection_.bottomRows<1>().transpose();
 }
 
 void CompliantAnkleFoot::set_reference_state(double t, Eigen::Ref<Eigen::VectorXd> q) const {
@@ -60,15 +58,6 @@ void CompliantAnkleFoot::add_contacts(double friction) {
     const auto joints = ankle_spring_joints(robot_.humanoid.foot_links[foot]);
     for (int i = 0; i < 3; ++i)
       spring_q_[3 * foot + i] = model_->idx_q[model_->joint_id(joints[i])];
-  }
-}
-
-void CompliantAnkleFoot::set_state(bool at_end, Eigen::VectorXd& q) const {
-  const Eigen::VectorXd& deflection = at_end ? final_deflection_ : initial_deflection_;
-  for (int foot = 0; foot < 2 && deflection.size() == 6; ++foot) {
-    const auto joints = ankle_spring_joints(robot_.humanoid.foot_links[foot]);
-    for (int i = 0; i < 3; ++i)
-      q[model_->idx_q[model_->joint_id(joints[i])]] = deflection[3 * foot + i];
   }
 }
 

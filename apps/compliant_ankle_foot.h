@@ -21,10 +21,8 @@ public:
   void configure_model(multibody::ModelOptions& options) const override;
   void plan(const multibody::Model& reference_model, const walking::Humanoid& humanoid,
             walking::JointReference& reference) override;
-  /// The springs' deflection (compensated ankles), else leaves @p q.
-  void set_state(bool at_end, Eigen::VectorXd& q) const override;
-  /// The springs at the deflection the compensation predicts at t (linear between the
-  /// reference's samples); else leaves @p q.
+  /// Compensated ankles: the springs at the deflection the compensation predicts at t (linear
+  /// between the reference's samples, t clamped to them); else leaves @p q.
   void set_reference_state(double t, Eigen::Ref<Eigen::VectorXd> q) const override;
   /// foot_stiffness: the ankle's linear spring (in series with rigid contacts).
   void summarize(HumanoidSummary& summary) const override {
@@ -38,10 +36,8 @@ protected:
 private:
   RobotParameters robot_;
   std::array<int, 6> spring_q_{}; ///< idx_q of (z, pitch, roll) of the right, then left foot
-  /// Compensated ankles: spring deflection (u, theta_p, theta_r per foot) at t = 0 and at the
-  /// end; empty: none.
-  Eigen::VectorXd initial_deflection_, final_deflection_;
-  /// The predicted deflection at every sample of the reference (n x 6) and its period (s).
+  /// Compensated ankles: the predicted deflection (u, theta_p, theta_r of the right, then the
+  /// left foot) at every sample of the reference (n x 6; empty: none) and its period (s).
   Eigen::Matrix<double, Eigen::Dynamic, 6> deflection_;
   double period_ = 0;
 };

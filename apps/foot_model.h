@@ -5,7 +5,8 @@
 //
 // HumanoidSimulation calls, in this order: configure_model (before the model is built),
 // lift, plan (once the reference exists), max_contacts, attach (the stepper's contacts of
-// both feet), set_state (initial and planned final configurations); then after every step
+// both feet), set_reference_state (initial and planned final configurations, and the balance
+// loop's reference before every step); then after every step
 // update, check_validity and report; output writers ask has_fields / write_fields.
 
 #include "apps/humanoid_summary.h"
@@ -68,12 +69,10 @@ public:
     sole_frames_ = sole_frames;
     add_contacts(friction);
   }
-  /// Sets this form's own coordinates of @p q (size model.nq): their state at t = 0, or
-  /// (@p at_end) the planned one at the end.
-  virtual void set_state(bool at_end, Eigen::VectorXd& q) const { (void)at_end, (void)q; }
-  /// Sets this form's own coordinates of the reference configuration @p q (size model.nq) to
-  /// the plan's at time @p t (s), so that the reference's soles are the planned feet (the
-  /// balance loop's contact test, touchdown adaptation and anchors). No heap allocation.
+  /// Sets this form's own coordinates of @p q (size model.nq) to the plan's at time @p t (s), so
+  /// that the reference's soles are the planned feet: the initial state (t = 0), the planned
+  /// soles at the end, and the balance loop's reference (its contact test, touchdown adaptation
+  /// and anchors). No heap allocation.
   virtual void set_reference_state(double t, Eigen::Ref<Eigen::VectorXd> q) const {
     (void)t, (void)q;
   }

@@ -216,14 +216,15 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     reference_at(0.0, q_);
   }
   q_ref_prev_ = q_;
-  foot_model_->set_state(false, q_); // e.g. compensated ankles: the predicted deflection
-  lift_ -= initial_lift;             // the planned (reference) base is on the ground
+  foot_model_->set_reference_state(0.0, q_); // e.g. compensated ankles: predicted deflection
+  lift_ -= initial_lift;                     // the planned (reference) base is on the ground
 
   // Planned sole positions at the end (reference kinematics, lifted).
   {
     Eigen::VectorXd q_end = q_;
     reference_at(n_steps_ * dt, q_end);
-    foot_model_->set_state(true, q_end); // the planned feet, not the compensated legs' ends
+    foot_model_->set_reference_state(n_steps_ * dt, q_end); // the planned feet, not the
+                                                            // compensated legs' ends
     multibody::forward_kinematics(model_, data_, q_end);
     summary_.planned_right_sole =
         multibody::frame_placement(model_, data_, sole_frames_[0]).translation;

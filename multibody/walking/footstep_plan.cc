@@ -124,6 +124,21 @@ Eigen::Vector3d swing_foot_height(const WalkingParameters& p, double tau) {
   return Eigen::Vector3d(z(0), z(1) / T, z(2) / (T * T));
 }
 
+SwingSample swing_sample(const WalkingParameters& p, const Footstep& from, const Footstep& to,
+                         double tau) {
+  const double f = std::max(to.lift_fraction, p.min_lift_fraction);
+  SwingSample out;
+  const double s = out.progress = quintic_transition((tau - f) / (1.0 - 2.0 * f))(0);
+  out.sole.x = from.x + s * (to.x - from.x);
+  out.sole.y = from.y + s * (to.y - from.y);
+  out.sole.yaw = from.yaw + s * std::remainder(to.yaw - from.yaw, 2 * M_PI);
+  out.sole.roll = from.roll + s * (to.roll - from.roll);
+  out.sole.pitch = from.pitch + s * (to.pitch - from.pitch);
+  out.ground = from.z + s * (to.z - from.z);
+  out.sole.z = out.ground + swing_foot_height(p, tau)(0);
+  return out;
+}
+
 FootstepPlan make_footstep_plan(const WalkingParameters& p) {
   check_walking_parameters(p);
   const double T = p.period;
@@ -195,16 +210,8 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
       const Footstep& target = p.footsteps[i];
       if (time < ss_end) { // single support: swing foot in the air
         const double tau = (time - ss_start[i]) / p.single_support_time;
-        const double f = std::max(target.lift_fraction, p.min_lift_fraction);
-        const double s = quintic_transition((tau - f) / (1.0 - 2.0 * f))(0);
-        Footstep moving;
-        moving.x = swing.x + s * (target.x - swing.x);
-        moving.y = swing.y + s * (target.y - swing.y);
-        moving.yaw = swing.yaw + s * std::remainder(target.yaw - swing.yaw, 2 * M_PI);
-        moving.roll = swing.roll + s * (target.roll - swing.roll);
-        moving.pitch = swing.pitch + s * (target.pitch - swing.pitch);
-        const double ground = swing.z + s * (target.z - swing.z);
-        store(k, right_swings ? 0 : 1, moving, ground + swing_foot_height(p, tau)(0), ground);
+        const SwingSample moving = swing_sample(p, swing, target, tau);
+        store(k, right_swings ? 0 : 1, moving.sole, moving.sole.z, moving.ground);
         store(k, right_swings ? 1 : 0, support, support.z, support.z);
         plan.phase[k] = right_swings ? SupportPhase::left_support : SupportPhase::right_support;
         plan.zmp_reference.row(k) = support_centre.transpose();

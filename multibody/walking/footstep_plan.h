@@ -134,6 +134,18 @@ Eigen::Vector3d touchdown_profile(double tau);
 /// Returns (z [m], dz/dt [m/s], d2z/dt2 [m/s^2]).
 Eigen::Vector3d swing_foot_height(const WalkingParameters& params, double tau);
 
+/// The swing sole from @p from onto @p to at tau in [0, 1] of the single support: x, y, yaw,
+/// roll, pitch and the planned ground g = from.z + s (to.z - from.z) by
+/// s = quintic_transition((tau - f) / (1 - 2 f)), f = max(to.lift_fraction,
+/// p.min_lift_fraction); the sole's height z = g + swing_foot_height(tau).
+struct SwingSample {
+  Footstep sole;         ///< pose (x, y, z, yaw, roll, pitch); the rest default
+  double ground = 0.0;   ///< g, m
+  double progress = 0.0; ///< s in [0, 1]: 0 on the lift-off placement, 1 on the landing one
+};
+SwingSample swing_sample(const WalkingParameters& p, const Footstep& from, const Footstep& to,
+                         double tau);
+
 /// Samples the plan: ZMP reference and both sole trajectories. The swing sole moves
 /// horizontally (and in yaw, roll, pitch and the placements' height difference) by
 /// quintic_transition s(tau) and vertically, in addition, by swing_foot_height over the

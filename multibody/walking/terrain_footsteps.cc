@@ -199,24 +199,24 @@ Footstep place_on_foothold(const contact::Terrain& terrain, const Footstep& step
 
 namespace {
 
-/// Whether the swing from @p from onto @p to with lift fraction @p f keeps every point of
-/// @p footprint (sole frame) above the ground as swing_lift_fraction states.
-bool swing_clears(const contact::Terrain& terrain, const Footstep& from, const Footstep& to,
+/// Whether the swing from @p from onto @p to with lift fraction @p f (make_footstep_plan's,
+/// swing_sample) keeps every point of @p footprint (sole frame) above the ground as
+/// swing_lift_fraction states.
+bool swing_clears(const contact::Terrain& terrain, const Footstep& from, Footstep to,
                   const SolePoints& footprint, const WalkingParameters& walk, double f) {
+  to.lift_fraction = f;
   const int n = 200;
   for (int k = 0; k <= n; ++k) {
     const double tau = double(k) / n;
-    const double s = quintic_transition((tau - f) / (1.0 - 2.0 * f))(0);
-    if (s <= 0.0 || s >= 1.0)
+    const SwingSample swing = swing_sample(walk, from, to, tau);
+    if (swing.progress <= 0.0 || swing.progress >= 1.0)
       continue; // on its own placement, lifted: its lowest points rest on the ground below
-    const double ground = from.z + s * (to.z - from.z);
-    const double z = ground + swing_foot_height(walk, tau)(0);
-    const Eigen::Matrix3d rotation = footstep_rotation(
-        from.yaw + s * std::remainder(to.yaw - from.yaw, 2 * M_PI),
-        from.pitch + s * (to.pitch - from.pitch), from.roll + s * (to.roll - from.roll));
-    const Eigen::Vector3d centre(from.x + s * (to.x - from.x), from.y + s * (to.y - from.y), z);
+    const Footstep& sole = swing.sole;
+    const Eigen::Matrix3d rotation = footstep_rotation(sole.yaw, sole.pitch, sole.roll);
+    const Eigen::Vector3d centre(sole.x, sole.y, sole.z);
     // Near a placement, as high above it as the swing has lifted the sole.
-    const double required = std::min(walk.swing_ground_margin, z - (tau < 0.5 ? from.z : to.z));
+    const double required =
+        std::min(walk.swing_ground_margin, sole.z - (tau < 0.5 ? from.z : to.z));
     for (Eigen::Index i = 0; i < footprint.cols(); ++i) {
       const Eigen::Vector3d p =
           centre + rotation * Eigen::Vector3d(footprint(0, i), footprint(1, i), 0.0);
