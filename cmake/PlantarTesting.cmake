@@ -13,16 +13,29 @@ function(plantar_test_sanitizer_options target)
   endif()
 endfunction()
 
+# With LONG_CASES filter (a GoogleTest filter), the cases it matches are registered apart as
+# `name.long` and `name` runs the others, so that the sanitizer tree can leave out the long
+# ones (tools/sanitizers/skipped_tests.txt) and still run the rest.
 function(plantar_add_test)
-  cmake_parse_arguments(T "" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS;ARGS" ${ARGN})
+  cmake_parse_arguments(T "" "NAME;TIMEOUT;LONG_CASES" "SOURCES;LIBS;LABELS;ARGS" ${ARGN})
   add_executable(${T_NAME} ${T_SOURCES})
   target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main plantar_warnings)
   target_compile_definitions(${T_NAME} PRIVATE PLANTAR_SOURCE_DIR="${PLANTAR_SOURCE_DIR}")
   plantar_test_sanitizer_options(${T_NAME})
-  add_test(NAME ${T_NAME} COMMAND ${T_NAME} ${T_ARGS} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 600)
   endif()
+  if(T_LONG_CASES)
+    if(T_ARGS)
+      message(FATAL_ERROR "plantar_add_test(${T_NAME}): LONG_CASES and ARGS together")
+    endif()
+    plantar_add_test_case(NAME ${T_NAME} EXE ${T_NAME} FILTER "-${T_LONG_CASES}"
+                          LABELS ${T_LABELS} TIMEOUT ${T_TIMEOUT})
+    plantar_add_test_case(NAME ${T_NAME}.long EXE ${T_NAME} FILTER "${T_LONG_CASES}"
+                          LABELS ${T_LABELS} TIMEOUT ${T_TIMEOUT})
+    return()
+  endif()
+  add_test(NAME ${T_NAME} COMMAND ${T_NAME} ${T_ARGS} WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
   set_tests_properties(${T_NAME} PROPERTIES LABELS "${T_LABELS}" TIMEOUT ${T_TIMEOUT})
 endfunction()
 
