@@ -83,7 +83,8 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << " N s, max filtered |a_z| " << s.max_landing_acceleration_z << " m/s^2 in the first "
       << scene.output.landing_window * 1e3 << " ms\n"
       << "waist height: min " << s.min_waist_height << " m, max |z - z_ref| "
-      << s.max_waist_height_error << " m\n";
+      << s.max_waist_height_error << " m, max tilt from the reference " << s.max_waist_tilt * deg
+      << " deg\n";
   if (s.sole_recondensation_tolerance > 0)
     out << "hyperelastic soles: " << s.sole_newton_checks << " Newton checks, "
         << s.sole_recondensations << " re-condensations, largest tolerated prediction error "
@@ -216,6 +217,7 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "final_roll_deg," << s.final_roll * deg << "\n"
         << "roll_difference_deg," << (s.commanded_roll - s.final_roll) * deg << "\n"
         << "max_roll_difference_deg," << s.max_roll_difference * deg << "\n"
+        << "max_waist_tilt_deg," << s.max_waist_tilt * deg << "\n"
         << "sole_thickness," << s.sole_thickness << "\n"
         << "n_solves," << s.n_solves << "\n"
         << "n_direct_solves," << s.n_direct_solves << "\n"

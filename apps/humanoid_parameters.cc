@@ -732,6 +732,10 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
                     "(e.g. bent knees for a drop onto knee pads).");
   prm.declare_entry("Fall height", "0.4", Double(0),
                     "The run fails (non-zero exit) if the waist goes below this height (m).");
+  prm.declare_entry("Fall tilt", number_text(SimulationParameters().fall_tilt), Double(0, 180),
+                    "deg, (0, 180]: the run fails if the waist's z axis tilts further than this "
+                    "from the reference waist's (a robot lying on its side can keep its waist "
+                    "above Fall height).");
   prm.declare_entry("Max penetration", "0.005", Double(0),
                     "The run fails if a contact point sinks deeper than this into the ground (m).");
   const SimulationParameters d;
@@ -756,6 +760,8 @@ void SimulationParameters::parse(dealii::ParameterHandler& prm) {
   release_height = prm.get_double("Release height");
   drop_posture = parse_posture(prm.get("Drop posture"), "Simulation/Drop posture");
   fall_height = prm.get_double("Fall height");
+  fall_tilt = prm.get_double("Fall tilt");
+  require(fall_tilt > 0, "Simulation/Fall tilt", fall_tilt, "(0, 180] deg");
   max_penetration = prm.get_double("Max penetration");
   push_time = prm.get_double("Push time");
   const std::vector<double> direction =

@@ -199,7 +199,10 @@ struct SimulationParameters {
   /// drop: (joint, angle [rad] or displacement [m]) overriding the straight legs and the
   /// standing posture; empty: straight legs.
   std::vector<std::pair<std::string, double>> drop_posture;
-  double fall_height = 0.4;       ///< m: the run stops as failed if the waist goes below
+  double fall_height = 0.4; ///< m: the run stops as failed if the waist goes below
+  /// deg, (0, 180]: the run stops as failed if the waist's z axis tilts further than this from
+  /// the reference waist's
+  double fall_tilt = 20;
   double max_penetration = 0.005; ///< m: the run stops as failed if a contact sinks deeper
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

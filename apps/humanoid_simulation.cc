@@ -422,7 +422,18 @@ void HumanoidSimulation::step() {
     fail(msg.str());
   }
   const Eigen::Quaterniond ref_rotation(q_ref_[6], q_ref_[3], q_ref_[4], q_ref_[5]);
-  const double roll = roll_of(rotation), roll_ref = roll_of(ref_rotation.toRotationMatrix());
+  const Eigen::Matrix3d reference_rotation = ref_rotation.toRotationMatrix();
+  const double tilt =
+      std::acos(std::clamp(rotation.col(2).dot(reference_rotation.col(2)), -1.0, 1.0));
+  summary_.max_waist_tilt = std::max(summary_.max_waist_tilt, tilt);
+  if (tilt > scene_.simulation.fall_tilt * M_PI / 180) {
+    std::ostringstream msg;
+    msg << "the robot fell: waist tilted " << tilt * 180 / M_PI
+        << " deg from the reference's > Simulation/Fall tilt " << scene_.simulation.fall_tilt
+        << " deg";
+    fail(msg.str());
+  }
+  const double roll = roll_of(rotation), roll_ref = roll_of(reference_rotation);
   summary_.final_roll = roll;
   summary_.commanded_roll = roll_ref;
   summary_.max_roll_difference = std::max(summary_.max_roll_difference, std::abs(roll_ref - roll));

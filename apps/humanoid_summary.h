@@ -50,6 +50,7 @@ struct HumanoidSummary {
   double final_roll = 0;               ///< measured waist roll at the end, rad
   double commanded_roll = 0;           ///< commanded waist roll at the end, rad
   double max_roll_difference = 0;      ///< max |commanded - measured| roll, rad
+  double max_waist_tilt = 0; ///< max angle between the waist's z axis and the reference's, rad
   /// max |a_z| of the waist accelerometer (Output/Accelerometer bandwidth) over the run
   double max_waist_acceleration_z_filtered = 0;
   /// Hz: the accelerometer's cut-off used; 0: raw (0 set, or at or above 1 / (2 dt))

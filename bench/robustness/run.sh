@@ -4,8 +4,10 @@
 # Sweeps (plantar sweep, resumable): forms_dt_theta.prm (3 forms x 4 dt x 3 theta),
 # sole_material.prm (E x nu), the sole meshes of bench/impact_convergence/walk_mesh.prm, rough
 # ground planned on it (rough.prm; rough_foothold.prm: with 9 x 9 contact grids and a foothold
-# search), an unplanned 2 cm step (unplanned_step.prm) and the same step
-# planned on (planned_step.prm); then
+# search; rough_foothold_seeds.prm: the rigid feet and the compliant ankle on two more rough
+# grounds; rough_sole_stiffness.prm: the FEM sole from 4 MPa to 1 GPa on three rough grounds),
+# an unplanned 2 cm step (unplanned_step.prm) and the same step planned on (planned_step.prm);
+# then
 # OUT_DIR/tables.md by table.py (outcome and figures per case).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -18,11 +20,12 @@ export PLANTAR_MESH_CACHE=${PLANTAR_MESH_CACHE:-$build/mesh-cache}
 mkdir -p "$out"
 for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$root/bench/impact_convergence/walk_mesh.prm" "$here/rough.prm" "$here/rough_foothold.prm" \
-  "$here/unplanned_step.prm" \
+  "$here/rough_foothold_seeds.prm" "$here/rough_sole_stiffness.prm" "$here/unplanned_step.prm" \
   "$here/planned_step.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
 done
 /usr/bin/python3 "$here/table.py" "$out/forms_dt_theta" "$out/sole_material" "$out/walk_mesh" \
-  "$out/rough" "$out/rough_foothold" "$out/unplanned_step" "$out/planned_step" >"$out/tables.md"
+  "$out/rough" "$out/rough_foothold" "$out/rough_foothold_seeds" "$out/rough_sole_stiffness" \
+  "$out/unplanned_step" "$out/planned_step" >"$out/tables.md"
 cat "$out/tables.md"

@@ -15,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -103,6 +105,36 @@ TEST(PushRecovery, FallsWithoutTheStabilizerAndRecoversWithIt) {
   EXPECT_LT(std::abs(summary.final_left_sole.x()), 0.005);
 }
 
+TEST(PushRecovery, AWaistTiltedPastFallTiltIsAFall) {
+  // The push without the stabilizer, Fall height out of the way: the robot tips over with its
+  // waist still high, and the run stops on the tilt of the waist's z axis from the upright
+  // reference's. Independent of the check: the tilt from the recorded Euler angles (waist.csv,
+  // every step; ZYX: R_zz = cos(pitch) cos(roll)).
+  HumanoidSimulation sim(testing::load_humanoid_scene(
+      "push_stand", {{"Control/Stabilizer", "none"}, {"Simulation/Fall height", "0"}}));
+  const std::string failure = testing::run_to_stop(sim);
+  std::printf("%s\n", failure.c_str());
+  ASSERT_NE(failure.find("waist tilted"), std::string::npos) << failure;
+  EXPECT_NE(failure.find("Simulation/Fall tilt 20 deg"), std::string::npos) << failure;
+  const double stopped_at = std::stod(failure.substr(failure.find("waist tilted") + 13));
+  const TimeSeries& waist = sim.waist_series();
+  ASSERT_GT(waist.n_rows(), 2);
+  const int roll = 10, pitch = 11; // columns of waist.csv
+  double largest = 0;
+  for (int i = 0; i < waist.n_rows(); ++i)
+    largest = std::max(largest, std::acos(std::cos(waist(i, pitch)) * std::cos(waist(i, roll))));
+  const double last = std::acos(std::cos(waist(waist.n_rows() - 1, pitch)) *
+                                std::cos(waist(waist.n_rows() - 1, roll)));
+  const double deg = 180 / M_PI;
+  std::printf("tilt: %.3f deg at the last recorded step, %.3f deg at the stop, largest recorded "
+              "%.3f deg\n",
+              last * deg, stopped_at, largest * deg);
+  EXPECT_LE(largest * deg, 20.0); // every step before the stop within the limit
+  EXPECT_GT(stopped_at, 20.0);
+  EXPECT_LT(stopped_at - last * deg, 1.0); // one step of tipping (1 ms) later
+  EXPECT_NEAR(sim.summary().max_waist_tilt * deg, stopped_at, 1e-3);
+}
+
 TEST(StabilizerLoop, StepAllocatesNothing) {
   // The push scene with noisy, delayed sensors: sensors, estimator, stabilizer and push.
   HumanoidSimulation sim(testing::load_humanoid_scene(
@@ -146,6 +178,9 @@ TEST(StabilizerScene, BadEntriesAreNamed) {
   const std::string damping = message({{"Control/Foot damping", "0"}});
   std::printf("%s\n", damping.c_str());
   EXPECT_NE(damping.find("Control/Foot damping = 0"), std::string::npos) << damping;
+  const std::string tilt = message({{"Simulation/Fall tilt", "0"}});
+  std::printf("%s\n", tilt.c_str());
+  EXPECT_NE(tilt.find("Simulation/Fall tilt = 0"), std::string::npos) << tilt;
 }
 
 class StabilizedWalk : public ::testing::TestWithParam<const char*> {};
