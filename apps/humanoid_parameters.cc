@@ -730,15 +730,15 @@ void SimulationParameters::declare(dealii::ParameterHandler& prm) {
                     "drop: joint angles held during the drop, 'joint: angle, ...' in degrees "
                     "(metres for prismatic joints), over straight legs and Robot/Posture "
                     "(e.g. bent knees for a drop onto knee pads).");
-  prm.declare_entry("Fall height", "0.4", Double(0),
+  const SimulationParameters d;
+  prm.declare_entry("Fall height", number_text(d.fall_height), Double(0),
                     "The run fails (non-zero exit) if the waist goes below this height (m).");
-  prm.declare_entry("Fall tilt", number_text(SimulationParameters().fall_tilt), Double(0, 180),
+  prm.declare_entry("Fall tilt", number_text(d.fall_tilt), Double(0, 180),
                     "deg, (0, 180]: the run fails if the waist's z axis tilts further than this "
                     "from the reference waist's (a robot lying on its side can keep its waist "
                     "above Fall height).");
-  prm.declare_entry("Max penetration", "0.005", Double(0),
+  prm.declare_entry("Max penetration", number_text(d.max_penetration), Double(0),
                     "The run fails if a contact point sinks deeper than this into the ground (m).");
-  const SimulationParameters d;
   prm.declare_entry("Push time", number_text(d.push_time), Double(0, 3600),
                     "s, [0, 3600]: start of a push on the waist (base origin).");
   prm.declare_entry("Push direction",

@@ -114,9 +114,10 @@ TEST(PushRecovery, AWaistTiltedPastFallTiltIsAFall) {
       "push_stand", {{"Control/Stabilizer", "none"}, {"Simulation/Fall height", "0"}}));
   const std::string failure = testing::run_to_stop(sim);
   std::printf("%s\n", failure.c_str());
-  ASSERT_NE(failure.find("waist tilted"), std::string::npos) << failure;
+  const std::string tilted = "waist tilted ";
+  ASSERT_NE(failure.find(tilted), std::string::npos) << failure;
   EXPECT_NE(failure.find("Simulation/Fall tilt 20 deg"), std::string::npos) << failure;
-  const double stopped_at = std::stod(failure.substr(failure.find("waist tilted") + 13));
+  const double stopped_at = std::stod(failure.substr(failure.find(tilted) + tilted.size()));
   const TimeSeries& waist = sim.waist_series();
   ASSERT_GT(waist.n_rows(), 2);
   const int roll = 10, pitch = 11; // columns of waist.csv
