@@ -49,17 +49,23 @@ struct SolverSettings {
   /// contact. Range [0, 1).
   double sweep_skip = 0.0;
   /// Before iterating, solve directly on the warm start's prediction: contacts with p_n > 0
-  /// strictly inside the cone sticking, those on the cone held at their impulse (sliding), the
-  /// others separated (p = 0). Needs every contact on a patch with its rigid structure
-  /// (ContactProblem::patch_levers: lever, lever_map_valid, version). W_AA p_A = -(v_free +
-  /// b e_n + W_AS p_S)_A by Woodbury over the kept Cholesky factors of the active sole blocks
-  /// (updated node by node when the set changes); the result is kept when it lies in the cones and
-  /// meets the tolerance (then it is an exact solution), else the iterative solver starts from
-  /// it, projected onto the cones. A problem with no contact on a patch (W = G G^T, rigid
-  /// contacts) takes RigidStickingSolver instead (rigid_sticking_solver.h: the sticking
-  /// impulses nearest the warm start by a pseudo-inverse, with active-set rounds), whose refused
-  /// candidates are dropped (the iteration starts from the warm start).
+  /// strictly inside the cone sticking, those on the cone sliding (p_t = mu p_n d, d the warm
+  /// start's direction, updated to minus the slip's), the others separated (p = 0). Needs every
+  /// contact on a patch with its rigid structure (ContactProblem::patch_levers: lever,
+  /// lever_map_valid, version). W_AA p_A = -(v_free + b e_n)_A + slip by Woodbury over the kept
+  /// Cholesky factors of the active sole blocks (updated node by node when the set changes); the
+  /// result is kept when it lies in the cones and meets the tolerance (then it is an exact
+  /// solution), else the iterative solver starts from it, projected onto the cones. A problem with
+  /// no contact on a patch (W = G G^T, rigid contacts) takes RigidStickingSolver instead
+  /// (rigid_sticking_solver.h: the sticking impulses nearest the warm start by a pseudo-inverse,
+  /// with active-set rounds), whose refused candidates are dropped (the iteration starts from the
+  /// warm start).
   bool sticking_direct = true;
+  /// Compliant patches: active sets the direct solve tries before handing over to the
+  /// iterative solver (sticking_solver.cc: a sticking contact outside its cone slides, one
+  /// pulled off separates, a sliding one that slips along its friction sticks, a separated
+  /// one closing sticks). 1 tries the warm start's prediction only. Range [1, inf).
+  int sticking_rounds = 8;
   /// ADMM: initial rho = rho_scale * mean diagonal of W. Range (0, inf).
   double rho_scale = 1.0;
   /// ADMM: proximal weight eta = proximal_scale * mean diagonal of W. Range [0, inf).

@@ -17,6 +17,11 @@
 // 27), so the test pins the recorded settings. The direct solve for rigid contacts
 // (contact/rigid_sticking_solver.h) came later: it is off for the forms without a sole (it
 // moves the figures within the solver's tolerance, e.g. max_penetration by 3e-11 m).
+// Since the direct solve for soles solves sliding contacts too (contact/sticking_solver.cc:
+// active-set rounds, the slip's Newton iteration), it takes most of the steps Gauss-Seidel
+// took, whose solutions differ within the tolerance: the open-loop fem-sole walk's figures moved
+// by up to 2.7e-7 relative (peak a_z 10.7877537 -> 10.7877566 m/s^2, final roll by 2.7e-7
+// deg, max waist height error by 2.8e-9 m); that walk is held to 1e-5 relative.
 #include "apps/humanoid_simulation.h"
 #include "humanoid_test_utilities.h"
 
@@ -95,7 +100,10 @@ TEST_P(Hrp2Regression, SummariesAsBeforeTheChange) {
     for (const auto& [name, value] : now) {
       const double old = it->second.at(name);
       const Tolerance tol = tolerances.at(name);
-      const double bound = std::max(tol.relative * std::abs(old), tol.absolute);
+      const double relative = GetParam() == "walk" && directory == "fem_sole"
+                                  ? std::max(tol.relative, 1e-5)
+                                  : tol.relative;
+      const double bound = std::max(relative * std::abs(old), tol.absolute);
       std::printf("%s %-15s %-26s %.15g -> %.15g (diff %.2e, bound %.1e)\n", GetParam().c_str(),
                   form, name.c_str(), old, value, value - old, bound);
       EXPECT_LE(std::abs(value - old), bound) << GetParam() << ", " << form << ": " << name;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <gtest/gtest.h>
+#include <utility>
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
 #error "this test needs EIGEN_RUNTIME_NO_MALLOC"
@@ -118,23 +119,26 @@ TEST(ContactNoMalloc, LargePatchFactorisationDoesNotAllocate) {
 }
 
 TEST(ContactNoMalloc, StickingDirectSolveDoesNotAllocate) {
-  // Two soles of 40 nodes, every contact sticking: the direct solve (accepted) and a refused
-  // one (contact 3 outside its cone), both under the guard.
+  // Two soles of 40 nodes, every contact sticking: the direct solve (accepted); contact 3
+  // outside its cone: accepted with contacts sliding (active-set rounds, the slip's Newton
+  // iteration), or refused with one active set; all under the guard.
   const int n_nodes = 40, m = 12, n = 2 * n_nodes;
   pc::ContactSolver solver(n, m);
-  for (const int outside : {-1, 3}) {
+  for (const auto [outside, rounds] : {std::pair{-1, 8}, std::pair{3, 8}, std::pair{3, 1}}) {
     const auto fixture = plantar::contact::test::sticking_problem(n_nodes, m, 1.0, 0.5, outside, 4);
     Eigen::VectorXd impulses = 0.9 * fixture.solution;
     impulses.segment<2>(3 * 3 + 1) *= 0.3;
     pc::SolverSettings settings;
     settings.solver = pc::ContactSolverType::gauss_seidel;
     settings.max_iterations = 3000;
+    settings.sticking_rounds = rounds;
     Eigen::internal::set_is_malloc_allowed(false);
     const pc::SolverResult r = solver.solve(fixture.problem, settings, impulses);
     Eigen::internal::set_is_malloc_allowed(true);
-    std::printf("sticking, contact %d outside: direct %d, %d sweeps, residual %.2e\n", outside,
-                r.direct, r.iterations, r.residual);
-    EXPECT_EQ(r.direct, outside < 0);
+    std::printf("sticking, contact %d outside, %d active sets: direct %d, %d sweeps, residual "
+                "%.2e\n",
+                outside, rounds, r.direct, r.iterations, r.residual);
+    EXPECT_EQ(r.direct, rounds > 1);
     EXPECT_TRUE(r.converged());
   }
 }

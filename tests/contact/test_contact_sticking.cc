@@ -1,7 +1,7 @@
 // The direct solve of an all-sticking problem (SolverSettings::sticking_direct,
 // sticking_solver.cc) against a known sticking solution, the dense W and the
 // Gauss-Seidel iteration; when it must refuse (and the iteration starts from the refused
-// candidate); a sliding contact held; a stiff sole; the kept inverse on ill-conditioned soles.
+// candidate); contacts sliding; a stiff sole; the kept inverse on ill-conditioned soles.
 #include "contact/contact_solver.h"
 #include "contact/coulomb_cone.h"
 #include "tests/contact/sticking_problem.h"
@@ -27,10 +27,12 @@ Eigen::VectorXd inside_warm_start(const Eigen::VectorXd& solution) {
   return warm;
 }
 
-pc::SolverSettings settings_for(pc::ContactSolverType type, bool direct, double tolerance) {
+pc::SolverSettings settings_for(pc::ContactSolverType type, bool direct, double tolerance,
+                                int rounds = pc::SolverSettings{}.sticking_rounds) {
   pc::SolverSettings settings;
   settings.solver = type;
   settings.sticking_direct = direct;
+  settings.sticking_rounds = rounds;
   settings.tolerance = tolerance;
   settings.max_iterations = 100000;
   return settings;
@@ -84,9 +86,9 @@ TEST(ContactSticking, DirectSolveGivesTheStickingSolution) {
 
 TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
   // p* has contact 7 outside its cone: the sticking system's solution p* is not a solution of
-  // the contact problem. The iteration starts from p* projected onto the cones (built here
-  // densely), with the direct solve's G^T p and patch products, and converges to the same
-  // solution as from the warm start.
+  // the contact problem. With one active set (sticking_rounds = 1) the iteration starts from
+  // p* projected onto the cones (built here densely), with the direct solve's G^T p and patch
+  // products, and converges to the same solution as from the warm start.
   const int n_nodes = 25, m = 12, n = 2 * n_nodes;
   const auto fixture = sticking_problem(n_nodes, m, 1.0, 0.4, 7, 5);
   Eigen::VectorXd warm = fixture.solution;
@@ -96,7 +98,7 @@ TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
   pc::ContactSolver solver(n, m);
   const auto type = pc::ContactSolverType::gauss_seidel;
   // One sweep: from the refused candidate against from the dense start.
-  pc::SolverSettings one = settings_for(type, true, 1e-11);
+  pc::SolverSettings one = settings_for(type, true, 1e-11, 1);
   one.max_iterations = 1;
   Eigen::VectorXd p_one = warm, p_one_dense = start;
   const pc::SolverResult r_one = solver.solve(fixture.problem, one, p_one);
@@ -106,7 +108,7 @@ TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
   // To convergence: with and without the direct solve.
   Eigen::VectorXd p_on = warm, p_off = warm;
   const pc::SolverResult r_on =
-      solver.solve(fixture.problem, settings_for(type, true, 1e-11), p_on);
+      solver.solve(fixture.problem, settings_for(type, true, 1e-11, 1), p_on);
   const pc::SolverResult r_off =
       solver.solve(fixture.problem, settings_for(type, false, 1e-11), p_off);
   const double difference = (p_on - p_off).norm() / p_off.norm();
@@ -129,7 +131,7 @@ TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
   EXPECT_NEAR(slip_ratio, 1.0, 1e-9); // contact 7 slides: on the cone's boundary
   // With the sweep skip, the iteration after the refusal builds W_kk only for the contacts it
   // solves (the lazy path): the result is judged by a dense W p and against p_off.
-  pc::SolverSettings skipping = settings_for(type, true, 1e-9);
+  pc::SolverSettings skipping = settings_for(type, true, 1e-9, 1);
   skipping.sweep_skip = 0.5;
   Eigen::VectorXd p_skip = warm;
   const pc::SolverResult r_skip = solver.solve(fixture.problem, skipping, p_skip);
@@ -151,8 +153,8 @@ TEST(ContactSticking, RefusedCandidateIsTheIterationStart) {
 
 TEST(ContactSticking, HoldsASlidingContact) {
   // Contact 7's friction coefficient is lowered until p*_7 lies on its cone: p* is still a
-  // solution (v_t = 0). The warm start has contact 7 at p*_7 (sliding, held) and the others
-  // inside: the direct solve with contact 7 held gives p* at once.
+  // solution (v_t = 0). The warm start has contact 7 at p*_7 (predicted sliding) and the
+  // others inside: the direct solve with contact 7 sliding (p_t = mu p_n d, slip 0) gives p*.
   const int n_nodes = 25, m = 12, n = 2 * n_nodes;
   auto fixture = sticking_problem(n_nodes, m, 1.0, 0.5, -1, 9);
   const Eigen::Vector3d p7_star = fixture.solution.segment<3>(21);
@@ -174,13 +176,73 @@ TEST(ContactSticking, HoldsASlidingContact) {
   }
 }
 
+TEST(ContactSticking, SolvesSlidingContactsDirectly) {
+  // Contacts whose friction coefficient is lowered below their share of p* slide in the
+  // solution. From a warm start inside every cone, the active-set rounds find which slide and
+  // the Newton iteration their slip directions: the direct solution must be the iteration's
+  // (to 1e-9), with every sliding impulse on its cone and its slip against its friction
+  // (v_t = -lambda p_t / |p_t|, lambda >= 0, checked with the dense W).
+  const int n_nodes = 25, m = 12, n = 2 * n_nodes;
+  int n_direct = 0, n_cases = 0, max_sliding = 0;
+  double worst_p = 0.0, worst_slip = 0.0, worst_residual = 0.0;
+  for (unsigned seed = 1; seed <= 12; ++seed) {
+    auto fixture = sticking_problem(n_nodes, m, 1.0, 0.5, -1, seed);
+    std::mt19937 rng(seed);
+    std::uniform_int_distribution<int> pick(0, n - 1);
+    for (int i = 0; i < 2 + static_cast<int>(seed % 6); ++i) // 2 to 7 contacts slide
+      fixture.problem.friction[pick(rng)] *= 0.3;
+    const Eigen::VectorXd warm = inside_warm_start(fixture.solution);
+    pc::ContactSolver solver(n, m);
+    Eigen::VectorXd p_direct = warm, p_gs = warm;
+    const auto type = pc::ContactSolverType::gauss_seidel;
+    const pc::SolverResult r =
+        solver.solve(fixture.problem, settings_for(type, true, 1e-11), p_direct);
+    const pc::SolverResult r_gs =
+        solver.solve(fixture.problem, settings_for(type, false, 1e-11), p_gs);
+    std::printf("seed %u: direct %d (%s), %d iterations, residual %.2e; Gauss-Seidel %d sweeps, "
+                "residual %.2e\n",
+                seed, r.direct, r.direct ? "accepted" : "refused", r.iterations, r.residual,
+                r_gs.iterations, r_gs.residual);
+    ASSERT_TRUE(r.converged());
+    ASSERT_TRUE(r_gs.converged());
+    ++n_cases;
+    n_direct += r.direct ? 1 : 0;
+    worst_p = std::max(worst_p, (p_direct - p_gs).norm() / p_gs.norm());
+    Eigen::MatrixXd w;
+    fixture.problem.assemble_delassus(w);
+    const Eigen::VectorXd v = w * p_direct + fixture.problem.free_velocity.head(3 * n);
+    worst_residual = std::max(
+        worst_residual, pc::ContactSolver::complementarity_residual(fixture.problem, p_direct, v));
+    int sliding = 0;
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d p = p_direct.segment<3>(3 * k);
+      const Eigen::Vector2d v_t = v.segment<2>(3 * k + 1);
+      if (p[0] <= 0.0 || v_t.norm() < 1e-6) // separated or sticking
+        continue;
+      ++sliding;
+      worst_slip = std::max(worst_slip, (v_t.normalized() + p.tail<2>().normalized()).norm());
+      EXPECT_NEAR(p.tail<2>().norm(), fixture.problem.friction[k] * p[0], 1e-9);
+    }
+    max_sliding = std::max(max_sliding, sliding);
+  }
+  std::printf("sliding contacts (up to %d per case): %d of %d direct, max |p - p_GS|/|p| %.2e, "
+              "max |v_t/|v_t| + p_t/|p_t|| %.2e, max residual %.2e\n",
+              max_sliding, n_direct, n_cases, worst_p, worst_slip, worst_residual);
+  EXPECT_EQ(n_direct, n_cases);
+  EXPECT_GE(max_sliding, 3);
+  EXPECT_LE(worst_p, 1e-9);
+  EXPECT_LE(worst_slip, 1e-8);
+  EXPECT_LE(worst_residual, 1e-11);
+}
+
 TEST(ContactSticking, NotTriedWithoutStructureOrStickingWarmStart) {
   const int n_nodes = 20, m = 12, n = 2 * n_nodes;
   const auto fixture = sticking_problem(n_nodes, m, 1.0, 0.5, -1, 9);
   pc::ContactSolver solver(n, m);
   const auto type = pc::ContactSolverType::gauss_seidel;
-  const auto solve = [&](const pc::ContactProblem& problem, Eigen::VectorXd p, bool direct) {
-    const pc::SolverResult r = solver.solve(problem, settings_for(type, direct, 1e-10), p);
+  const auto solve = [&](const pc::ContactProblem& problem, Eigen::VectorXd p, bool direct,
+                         int rounds = 1) {
+    const pc::SolverResult r = solver.solve(problem, settings_for(type, direct, 1e-10, rounds), p);
     EXPECT_TRUE(r.converged());
     EXPECT_LE((p - fixture.solution).norm() / fixture.solution.norm(), 1e-7);
     EXPECT_EQ(r.direct, r.direct_attempt == pc::DirectAttempt::accepted);
@@ -194,12 +256,17 @@ TEST(ContactSticking, NotTriedWithoutStructureOrStickingWarmStart) {
             DirectAttempt::not_tried); // cold start
   Eigen::VectorXd lifted = warm;
   lifted.segment<3>(3 * 11).setZero(); // one contact predicted open
-  // Tried and refused: the others, carrying its share, leave their cones.
+  // With one active set, tried and refused: the others, carrying its share, leave their
+  // cones. With the default rounds the contact closes again and the solve is direct.
   EXPECT_EQ(solve(fixture.problem, lifted, true), DirectAttempt::refused_cone);
+  EXPECT_EQ(solve(fixture.problem, lifted, true, 8), DirectAttempt::accepted);
   Eigen::VectorXd on_cone = warm; // one contact predicted sliding (on the cone)
   on_cone.segment<2>(3 * 4 + 1) =
       Eigen::Vector2d(fixture.problem.friction[4] * on_cone[3 * 4], 0.0);
+  // It sticks in p*: made to slide (on its cone at the warm start's p_n), it pushes others
+  // out of theirs (refused); the next active sets have them right.
   EXPECT_EQ(solve(fixture.problem, on_cone, true), DirectAttempt::refused_cone);
+  EXPECT_EQ(solve(fixture.problem, on_cone, true, 8), DirectAttempt::accepted);
   pc::ContactProblem no_map = fixture.problem;
   no_map.patch_levers[1].lever_map_valid = false; // the owner did not set T this step
   EXPECT_EQ(solve(no_map, warm, true), DirectAttempt::not_tried);
@@ -350,16 +417,22 @@ TEST(ContactSticking, RefusesWhenASeparatedContactCloses) {
   // iterates and finds p*.
   const int n_nodes = 20, m = 12, n = 2 * n_nodes;
   auto fixture = sticking_problem(n_nodes, m, 1.0, 0.5, -1, 29);
-  Eigen::VectorXd p = inside_warm_start(fixture.solution);
-  p.segment<3>(15).setZero();
+  // With the default rounds, the next active set has contact 5 sticking: direct.
+  Eigen::VectorXd warm = inside_warm_start(fixture.solution);
+  warm.segment<3>(15).setZero();
   pc::ContactSolver solver(n, m);
-  const pc::SolverResult r = solver.solve(
-      fixture.problem, settings_for(pc::ContactSolverType::gauss_seidel, true, 1e-10), p);
-  const double e_p = (p - fixture.solution).norm() / fixture.solution.norm();
-  std::printf("separated contact closing: direct %d, %d sweeps, |p - p*|/|p*| %.2e\n", r.direct,
-              r.iterations, e_p);
-  EXPECT_FALSE(r.direct);
-  EXPECT_EQ(r.direct_attempt, pc::DirectAttempt::refused_residual);
-  EXPECT_TRUE(r.converged());
-  EXPECT_LE(e_p, 1e-8);
+  for (const int rounds : {1, 8}) {
+    Eigen::VectorXd p = warm;
+    const pc::SolverResult r = solver.solve(
+        fixture.problem, settings_for(pc::ContactSolverType::gauss_seidel, true, 1e-10, rounds), p);
+    const double e_p = (p - fixture.solution).norm() / fixture.solution.norm();
+    std::printf("separated contact closing, %d active sets: direct %d, %d sweeps, |p - p*|/|p*| "
+                "%.2e\n",
+                rounds, r.direct, r.iterations, e_p);
+    EXPECT_EQ(r.direct, rounds > 1);
+    EXPECT_EQ(r.direct_attempt,
+              rounds > 1 ? pc::DirectAttempt::accepted : pc::DirectAttempt::refused_residual);
+    EXPECT_TRUE(r.converged());
+    EXPECT_LE(e_p, 1e-8);
+  }
 }
