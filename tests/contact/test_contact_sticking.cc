@@ -167,7 +167,7 @@ TEST(ContactSticking, HoldsASlidingContact) {
     const pc::SolverResult r =
         solver.solve(fixture.problem, settings_for(type, true, 1e-9), p_type);
     const double e_p = (p_type - fixture.solution).norm() / fixture.solution.norm();
-    std::printf("%s, contact 7 held: direct %d, |p - p*|/|p*| %.2e, residual %.2e\n",
+    std::printf("%s, contact 7 sliding: direct %d, |p - p*|/|p*| %.2e, residual %.2e\n",
                 pc::to_string(type), r.direct, e_p, r.residual);
     EXPECT_TRUE(r.direct);
     EXPECT_TRUE(r.converged());
