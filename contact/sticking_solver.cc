@@ -317,16 +317,20 @@ int StickingSolver::solve_active_set(const ContactProblem& problem, DelassusProd
   auto cap = sticking_capacitance_.triangularView<Eigen::Lower>();
   cap.solveInPlace(sticking_y_);
   cap.transpose().solveInPlace(sticking_y_); // z0
+  // y_j += sign Z T_j w (w: m) on every patch's factor rows.
+  const auto add_lever_solve = [&](const Eigen::VectorXd& w, double sign) {
+    for (int j = 0; j < patch_count; ++j) {
+      const int first = problem.patches[j].first_contact;
+      const int count = problem.patches[j].n_contacts > 0 ? active_count_[j] : 0;
+      if (count == 0)
+        continue;
+      const Vector6 u = sign * (problem.patch_levers[j].lever_map * w);
+      sticking_p_.segment(3 * first, 3 * count).noalias() +=
+          active_lever_solve_.middleRows(3 * first, 3 * count) * u;
+    }
+  };
   // 2. y0_j = x_j - Z T_j z0.
-  for (int j = 0; j < patch_count; ++j) {
-    const CompliantPatch& patch = problem.patches[j];
-    const int first = patch.first_contact, count = patch.n_contacts > 0 ? active_count_[j] : 0;
-    if (count == 0)
-      continue;
-    const Vector6 u = problem.patch_levers[j].lever_map * sticking_y_;
-    sticking_p_.segment(3 * first, 3 * count).noalias() -=
-        active_lever_solve_.middleRows(3 * first, 3 * count) * u;
-  }
+  add_lever_solve(sticking_y_, -1.0);
   // 3. The slip sigma of the sliding contacts (tangential velocities, contact frames).
   const int s = n_sliding_;
   slide_stick_ = false;
@@ -479,23 +483,13 @@ int StickingSolver::solve_active_set(const ContactProblem& problem, DelassusProd
     }
     // y = y0 - E~ sigma + Z T_j X sigma.
     slide_m_.noalias() = x * sigma;
-    g = 0;
-    for (int j = 0; j < patch_count; ++j) {
-      const CompliantPatch& patch = problem.patches[j];
-      const int first = patch.first_contact, count = patch.n_contacts > 0 ? active_count_[j] : 0;
-      if (count == 0)
-        continue;
-      const Vector6 u = problem.patch_levers[j].lever_map * slide_m_;
-      sticking_p_.segment(3 * first, 3 * count).noalias() +=
-          active_lever_solve_.middleRows(3 * first, 3 * count) * u;
-      while (g < s && products.patch_of[slide_contact_[g]] == j) {
-        const int i = active_position_[slide_contact_[g]];
-        const int base = 3 * first, rows = 3 * count;
-        for (int row = 3 * i; row < rows; ++row)
-          sticking_p_[base + row] -= slide_e_(base + row, 2 * g) * sigma[2 * g] +
-                                     slide_e_(base + row, 2 * g + 1) * sigma[2 * g + 1];
-        ++g;
-      }
+    add_lever_solve(slide_m_, 1.0);
+    for (g = 0; g < s; ++g) { // E~ sigma, on the rows from the node's position down
+      const int j = products.patch_of[slide_contact_[g]];
+      const int base = 3 * problem.patches[j].first_contact, rows = 3 * active_count_[j];
+      for (int row = 3 * active_position_[slide_contact_[g]]; row < rows; ++row)
+        sticking_p_[base + row] -= slide_e_(base + row, 2 * g) * sigma[2 * g] +
+                                   slide_e_(base + row, 2 * g + 1) * sigma[2 * g + 1];
     }
   }
   // 4. p~_L = -L^-T y; G^T p; the candidate in contact frames.
