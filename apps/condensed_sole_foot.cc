@@ -56,8 +56,8 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   if (reduce && reduction.area_weights)
     weights = coupling::pressure_weights(node_areas(0));
   if (reduction.automatic) {
-    const coupling::ReductionChoice choice =
-        coupling::choose_reduction(*sole_, reduction.tolerance, reduction.spacing, weights);
+    const coupling::ReductionChoice choice = coupling::choose_reduction(
+        *sole_, reduction.tolerance, reduction.spacing, weights, reduction.basis);
     nx = ny = choice.grid;
     estimate = choice.estimate;
     reduction_reached_ = choice.reached;
@@ -79,10 +79,11 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
     set_patch(positions.transpose(), sole_->compliance(), scene.sole.damping_time);
     return;
   }
-  // Reduced sole: bottom nodes grouped into patches, one contact per patch with the
-  // patch-averaged compliance (coupling/reduced_sole.h).
+  // Reduced sole: one contact per patch (a grid cell, or a grid vertex's hat), with the
+  // compliance C_r = A^T C A (coupling/reduced_sole.h).
   reduced_ = std::make_unique<coupling::ReducedSole>(
-      *sole_, coupling::ReducedSole::grid_patches(positions, nx, ny, reduction.spacing), weights);
+      *sole_, coupling::ReducedSole::grid_shares(positions, nx, ny, reduction.spacing,
+                                                 reduction.basis, weights));
   reduced_factor_ = std::make_unique<Eigen::LDLT<Eigen::MatrixXd>>(reduced_->compliance());
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
   reduction_x_ = nx;
@@ -122,14 +123,14 @@ void CondensedSoleFoot::write_fields(int foot, const multibody::SE3& placement,
     f_patch.col(j) = state.node_to_world(j, state.node_force(j));
   }
   const Eigen::VectorXd f_elastic = reduced_factor_->solve(u_patch);
-  Eigen::VectorXd node_force(3 * n);
-  PadNodeState nodes{Eigen::Matrix3Xd(3, n), Eigen::Matrix3Xd(3, n)};
-  for (int k = 0; k < n; ++k) {
-    const int j = reduced_->patch_of_node()[k];
-    const double share = reduced_->node_shares()[k];
-    node_force.segment<3>(3 * k) = share * f_elastic.segment<3>(3 * j);
-    nodes.force.col(k) = share * f_patch.col(j);
-  }
+  Eigen::VectorXd node_force = Eigen::VectorXd::Zero(3 * n);
+  PadNodeState nodes{Eigen::Matrix3Xd(3, n), Eigen::Matrix3Xd::Zero(3, n)};
+  const coupling::ReducedSole::ShareMatrix& shares = reduced_->shares();
+  for (int j = 0; j < n_p; ++j)
+    for (coupling::ReducedSole::ShareMatrix::InnerIterator it(shares, j); it; ++it) {
+      node_force.segment<3>(3 * it.row()) += it.value() * f_elastic.segment<3>(3 * j);
+      nodes.force.col(it.row()) += it.value() * f_patch.col(j);
+    }
   sole_->displacement_of_forces(node_force, field_);
   const auto& dofs = sole_->contact_dofs();
   for (int k = 0; k < n; ++k)

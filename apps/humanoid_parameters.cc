@@ -283,6 +283,11 @@ const ChoiceTable<coupling::GridSpacing>& spacing_table() {
       {coupling::GridSpacing::uniform, "uniform"}, {coupling::GridSpacing::chebyshev, "chebyshev"}};
   return table;
 }
+const ChoiceTable<coupling::PatchBasis>& basis_table() {
+  static const ChoiceTable<coupling::PatchBasis> table{
+      {coupling::PatchBasis::constant, "constant"}, {coupling::PatchBasis::bilinear, "bilinear"}};
+  return table;
+}
 } // namespace
 
 void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
@@ -290,8 +295,9 @@ void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
   prm.declare_entry("Reduced patches", "0", Anything(),
                     "fem sole: 0 = the full condensed sole (one contact per bottom node); "
                     "'nx, ny' (integers >= 1) = a reduced sole: the bottom nodes grouped by an nx "
-                    "x ny grid over the sole into patches, one contact per patch with the "
-                    "patch-averaged compliance A^T C A (coupling/reduced_sole.h; 3 nx ny solves "
+                    "x ny grid over the sole into patches (Sole/Reduction basis: its cells or "
+                    "its vertices), one contact per patch with the patch-averaged compliance "
+                    "A^T C A (coupling/reduced_sole.h; 3 solves per patch "
                     "with the kept factorization of K, no dense C; its fields recovered from the "
                     "patch forces for ParaView); 'auto' = the "
                     "coarsest g x g grid (g = 1, 2, 4, ...) whose reduction error estimate meets "
@@ -307,6 +313,13 @@ void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
                     "fem sole, Reduced patches: how a patch's force is shared by its bottom nodes: "
                     "in proportion to their consistent areas (area: a uniform pressure over the "
                     "patch) or equally (equal); coupling/reduced_sole.h.");
+  prm.declare_entry("Reduction basis", choice_name(basis_table(), d.basis),
+                    choice_pattern(basis_table()),
+                    "fem sole, Reduced patches: the pressure a patch force stands for: constant "
+                    "over a grid cell (one contact per cell), or bilinear (one contact per grid "
+                    "vertex, (nx + 1)(ny + 1) of them: the forces of a continuous pressure, "
+                    "bilinear on each cell, interpolated from the vertices); "
+                    "coupling/reduced_sole.h.");
   prm.declare_entry("Reduction tolerance", number_text(d.tolerance), Double(0, 1),
                     "fem sole, Reduced patches = auto: the bound on the reduction error estimate "
                     "||D^-1/2 (K - K_r) D^-1/2||_2 (the relative error of the sole face's "
@@ -322,6 +335,7 @@ void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
   tolerance = prm.get_double("Reduction tolerance");
   spacing = parse_choice(spacing_table(), prm.get("Reduction spacing"), "Sole/Reduction spacing");
   area_weights = prm.get("Reduction weights") == "area";
+  basis = parse_choice(basis_table(), prm.get("Reduction basis"), "Sole/Reduction basis");
   automatic = items.size() == 1 && (items[0] == "auto" || items[0] == "Auto");
   require(tolerance > 0 && tolerance < 1, "Sole/Reduction tolerance", tolerance, "(0, 1)");
   if (automatic)

@@ -78,6 +78,9 @@ struct SoleReductionParameters {
   /// Sole/Reduction weights: a patch force shared by the nodes' areas (a uniform patch
   /// pressure, coupling::pressure_weights) or equally.
   bool area_weights = true;
+  /// Sole/Reduction basis: one patch per grid cell (a cell-wise constant pressure) or per grid
+  /// vertex (a continuous, cell-wise bilinear pressure; coupling/reduced_sole.h).
+  coupling::PatchBasis basis = coupling::PatchBasis::constant;
   bool reduced() const { return patches_x > 0 || automatic; }
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace plantar::coupling {
 
@@ -63,94 +64,142 @@ Eigen::VectorXd pressure_weights(const Eigen::VectorXd& areas) {
   return areas.cwiseMax(1e-3 * areas.mean());
 }
 
-void ReducedSole::set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows,
-                              const Eigen::VectorXd& weights) {
+void ReducedSole::set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows) {
   const int n = static_cast<int>(positions.rows());
-  if (n == 0 || n_compliance_rows != 3 * n || static_cast<int>(patch_of_node_.size()) != n) {
+  if (n == 0 || n_compliance_rows != 3 * n || shares_.rows() != n) {
     std::ostringstream msg;
     msg << "ReducedSole: " << n << " nodes (allowed >= 1), compliance of " << n_compliance_rows
-        << " rows (expected " << 3 * n << "), patch_of_node size " << patch_of_node_.size()
-        << " (expected " << n << ")";
+        << " rows (expected " << 3 * n << "), shares of " << shares_.rows() << " rows (expected "
+        << n << ")";
     throw std::invalid_argument(msg.str());
   }
-  patch_sizes_ = patch_sizes_of(patch_of_node_);
-  shares_ = shares_of(patch_of_node_, weights);
-  const int p = static_cast<int>(patch_sizes_.size());
+  const int p = n_patches();
+  patch_sizes_.assign(p, 0);
   patch_positions_.setZero(p, 3);
-  for (int k = 0; k < n; ++k)
-    patch_positions_.row(patch_of_node_[k]) += shares_[k] * positions.row(k);
+  for (int j = 0; j < p; ++j) {
+    double total = 0;
+    for (ShareMatrix::InnerIterator it(shares_, j); it; ++it) {
+      if (!(it.value() >= 0) || !std::isfinite(it.value()))
+        throw std::invalid_argument("ReducedSole: share of node " + std::to_string(it.row()) +
+                                    " in patch " + std::to_string(j) + " = " +
+                                    std::to_string(it.value()) + ", allowed >= 0 and finite");
+      total += it.value();
+      patch_sizes_[j] += it.value() > 0 ? 1 : 0;
+      patch_positions_.row(j) += it.value() * positions.row(it.row());
+    }
+    if (std::abs(total - 1.0) > 1e-12)
+      throw std::invalid_argument("ReducedSole: the shares of patch " + std::to_string(j) +
+                                  " sum to " + std::to_string(total) + ", allowed 1");
+  }
 }
 
-Eigen::SparseMatrix<double, Eigen::ColMajor, int>
-ReducedSole::aggregation(const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights) {
+ReducedSole::ShareMatrix ReducedSole::partition_shares(const std::vector<int>& patch_of_node,
+                                                       const Eigen::VectorXd& weights) {
   const Eigen::VectorXd shares = shares_of(patch_of_node, weights);
   const int n = static_cast<int>(patch_of_node.size());
   const int p = *std::max_element(patch_of_node.begin(), patch_of_node.end()) + 1;
   std::vector<Eigen::Triplet<double, int>> entries;
-  entries.reserve(3 * n);
+  entries.reserve(n);
   for (int k = 0; k < n; ++k)
-    for (int d = 0; d < 3; ++d)
-      entries.emplace_back(3 * k + d, 3 * patch_of_node[k] + d, shares[k]);
-  Eigen::SparseMatrix<double, Eigen::ColMajor, int> a(3 * n, 3 * p);
+    entries.emplace_back(k, patch_of_node[k], shares[k]);
+  ShareMatrix s(n, p);
+  s.setFromTriplets(entries.begin(), entries.end());
+  return s;
+}
+
+ReducedSole::ShareMatrix ReducedSole::aggregation(const ShareMatrix& shares) {
+  std::vector<Eigen::Triplet<double, int>> entries;
+  entries.reserve(3 * shares.nonZeros());
+  for (int j = 0; j < shares.outerSize(); ++j)
+    for (ShareMatrix::InnerIterator it(shares, j); it; ++it)
+      for (int d = 0; d < 3; ++d)
+        entries.emplace_back(3 * static_cast<int>(it.row()) + d, 3 * j + d, it.value());
+  ShareMatrix a(3 * shares.rows(), 3 * shares.cols());
   a.setFromTriplets(entries.begin(), entries.end());
   return a;
 }
 
+ReducedSole::ShareMatrix ReducedSole::aggregation(const std::vector<int>& patch_of_node,
+                                                  const Eigen::VectorXd& weights) {
+  return aggregation(partition_shares(patch_of_node, weights));
+}
+
+ReducedSole::ReducedSole(const CondensedSole& sole, const ShareMatrix& shares) : shares_(shares) {
+  set_patches(sole.contact_positions(), 3 * sole.n_contacts());
+  compliance_ = sole.projected_compliance(aggregation(shares_));
+}
+
 ReducedSole::ReducedSole(const CondensedSole& sole, const std::vector<int>& patch_of_node,
                          const Eigen::VectorXd& weights)
-    : patch_of_node_(patch_of_node) {
-  set_patches(sole.contact_positions(), 3 * sole.n_contacts(), weights);
-  compliance_ = sole.projected_compliance(aggregation(patch_of_node_, weights));
+    : ReducedSole(sole, partition_shares(patch_of_node, weights)) {}
+
+ReducedSole::ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
+                         const ShareMatrix& shares)
+    : shares_(shares) {
+  if (compliance.rows() != compliance.cols())
+    throw std::invalid_argument("ReducedSole: compliance " + std::to_string(compliance.rows()) +
+                                "x" + std::to_string(compliance.cols()) + " is not square");
+  set_patches(positions, static_cast<int>(compliance.rows()));
+  const ShareMatrix a = aggregation(shares_);
+  const Eigen::MatrixXd ca = compliance * a; // C A (3n x 3P)
+  compliance_ = a.transpose() * ca;
+  compliance_ = 0.5 * (compliance_ + compliance_.transpose()).eval();
 }
 
 ReducedSole::ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
                          const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights)
-    : patch_of_node_(patch_of_node) {
-  if (compliance.rows() != compliance.cols())
-    throw std::invalid_argument("ReducedSole: compliance " + std::to_string(compliance.rows()) +
-                                "x" + std::to_string(compliance.cols()) + " is not square");
-  set_patches(positions, static_cast<int>(compliance.rows()), weights);
-  const int n = n_nodes(), p = n_patches();
+    : ReducedSole(positions, compliance, partition_shares(patch_of_node, weights)) {}
 
-  // C A (3n x 3P): column block j sums the node columns of patch j times their shares s_k.
-  Eigen::MatrixXd ca = Eigen::MatrixXd::Zero(3 * n, 3 * p);
-  for (int k = 0; k < n; ++k) {
-    const int j = patch_of_node[k];
-    ca.middleCols<3>(3 * j) += shares_[k] * compliance.middleCols<3>(3 * k);
-  }
-  // A^T (C A): the same over rows.
-  compliance_.setZero(3 * p, 3 * p);
-  for (int k = 0; k < n; ++k) {
-    const int j = patch_of_node[k];
-    compliance_.middleRows<3>(3 * j) += shares_[k] * ca.middleRows<3>(3 * k);
-  }
-  compliance_ = 0.5 * (compliance_ + compliance_.transpose()).eval();
-}
+namespace {
 
-std::vector<int> ReducedSole::grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny,
-                                           GridSpacing spacing) {
+/// Where x lies on [a, b] split into m cells (uniform or at the Chebyshev-Lobatto points
+/// s_i = (1 - cos(pi i / m)) / 2): its cell, and its coordinate in that cell, in [0, 1].
+struct GridAxis {
+  double a, b;
+  int m;
+  GridSpacing spacing;
+  double edge(int i) const {
+    const double t = double(i) / m;
+    return a + (b - a) * (spacing == GridSpacing::uniform ? t : (1 - std::cos(M_PI * t)) / 2);
+  }
+  std::pair<int, double> locate(double x) const {
+    if (!(b > a))
+      return {0, 0.0};
+    const double s = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    const double t = spacing == GridSpacing::uniform ? s : std::acos(1 - 2 * s) / M_PI;
+    const int i = std::clamp(static_cast<int>(std::floor(t * m)), 0, m - 1);
+    const double lo = edge(i), hi = edge(i + 1);
+    const double u = std::clamp((x - lo) / (hi - lo), 0.0, 1.0);
+    return {i, u < 1e-9       ? 0.0
+               : u > 1 - 1e-9 ? 1.0
+                              : u}; // a node on a vertex line (gmsh's
+                                    // round-off): exactly on it
+  }
+};
+
+std::pair<GridAxis, GridAxis> grid_axes(const Eigen::MatrixX3d& positions, int nx, int ny,
+                                        GridSpacing spacing, const char* caller) {
   if (nx < 1 || ny < 1 || positions.rows() == 0) {
     std::ostringstream msg;
-    msg << "ReducedSole::grid_patches: grid " << nx << " x " << ny << " (allowed >= 1 x 1), "
+    msg << "ReducedSole::" << caller << ": grid " << nx << " x " << ny << " (allowed >= 1 x 1), "
         << positions.rows() << " nodes (allowed >= 1)";
     throw std::invalid_argument(msg.str());
   }
   const Eigen::RowVector3d lo = positions.colwise().minCoeff();
   const Eigen::RowVector3d hi = positions.colwise().maxCoeff();
-  // The cell of x in [a, b] split into m cells: uniform, or at the Chebyshev-Lobatto points
-  // s_i = (1 - cos(pi i / m)) / 2, i.e. i = m acos(1 - 2 s) / pi for s = (x - a) / (b - a).
-  auto cell = [spacing](double x, double a, double b, int m) {
-    if (!(b > a))
-      return 0;
-    const double s = std::clamp((x - a) / (b - a), 0.0, 1.0);
-    const double t = spacing == GridSpacing::uniform ? s : std::acos(1 - 2 * s) / M_PI;
-    return std::clamp(static_cast<int>(std::floor(t * m)), 0, m - 1);
-  };
+  return {GridAxis{lo[0], hi[0], nx, spacing}, GridAxis{lo[1], hi[1], ny, spacing}};
+}
+
+} // namespace
+
+std::vector<int> ReducedSole::grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny,
+                                           GridSpacing spacing) {
+  const auto [x_axis, y_axis] = grid_axes(positions, nx, ny, spacing, "grid_patches");
   const int n = static_cast<int>(positions.rows());
   std::vector<int> cell_of_node(n), renumber(nx * ny, -1), patch(n);
   for (int k = 0; k < n; ++k)
     cell_of_node[k] =
-        cell(positions(k, 0), lo[0], hi[0], nx) * ny + cell(positions(k, 1), lo[1], hi[1], ny);
+        x_axis.locate(positions(k, 0)).first * ny + y_axis.locate(positions(k, 1)).first;
   int next = 0;
   for (int k = 0; k < n; ++k) {
     int& id = renumber[cell_of_node[k]];
@@ -159,6 +208,50 @@ std::vector<int> ReducedSole::grid_patches(const Eigen::MatrixX3d& positions, in
     patch[k] = id;
   }
   return patch;
+}
+
+ReducedSole::ShareMatrix ReducedSole::grid_shares(const Eigen::MatrixX3d& positions, int nx, int ny,
+                                                  GridSpacing spacing, PatchBasis basis,
+                                                  const Eigen::VectorXd& weights) {
+  if (basis == PatchBasis::constant)
+    return partition_shares(grid_patches(positions, nx, ny, spacing), weights);
+  const auto [x_axis, y_axis] = grid_axes(positions, nx, ny, spacing, "grid_shares");
+  const int n = static_cast<int>(positions.rows());
+  if (weights.size() != 0 && weights.size() != n)
+    throw std::invalid_argument("ReducedSole::grid_shares: " + std::to_string(weights.size()) +
+                                " node weights for " + std::to_string(n) + " nodes");
+  // phi_v(x_k) w_k for the four vertices of node k's cell, then each vertex's column scaled to
+  // sum to 1; vertices whose hat covers no node (column sum 0) are dropped.
+  const int n_vertices = (nx + 1) * (ny + 1);
+  std::vector<Eigen::Triplet<double, int>> entries;
+  entries.reserve(4 * n);
+  Eigen::VectorXd total = Eigen::VectorXd::Zero(n_vertices);
+  for (int k = 0; k < n; ++k) {
+    const double w = weights.size() == 0 ? 1.0 : weights[k];
+    if (!(w > 0) || !std::isfinite(w))
+      throw std::invalid_argument("ReducedSole::grid_shares: node weight " + std::to_string(k) +
+                                  " = " + std::to_string(w) + ", allowed > 0 and finite");
+    const auto [i, s] = x_axis.locate(positions(k, 0));
+    const auto [j, t] = y_axis.locate(positions(k, 1));
+    const double hat[4] = {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t};
+    const int vertex[4] = {i * (ny + 1) + j, (i + 1) * (ny + 1) + j, i * (ny + 1) + j + 1,
+                           (i + 1) * (ny + 1) + j + 1};
+    for (int c = 0; c < 4; ++c)
+      if (hat[c] > 0) {
+        entries.emplace_back(k, vertex[c], hat[c] * w);
+        total[vertex[c]] += hat[c] * w;
+      }
+  }
+  std::vector<int> column(n_vertices, -1);
+  int p = 0;
+  for (int v = 0; v < n_vertices; ++v)
+    if (total[v] > 0)
+      column[v] = p++;
+  for (auto& e : entries)
+    e = Eigen::Triplet<double, int>(e.row(), column[e.col()], e.value() / total[e.col()]);
+  ShareMatrix shares(n, p);
+  shares.setFromTriplets(entries.begin(), entries.end());
+  return shares;
 }
 
 Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& positions,
@@ -204,17 +297,19 @@ namespace {
 template <class Reduce>
 ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
                             const Eigen::Matrix<double, 6, 6>& k_full, double tolerance,
-                            GridSpacing spacing, const Reduce& reduce) {
+                            GridSpacing spacing, PatchBasis basis, const Eigen::VectorXd& weights,
+                            const Reduce& reduce) {
   if (!(tolerance > 0))
     throw std::invalid_argument("choose_reduction: tolerance " + std::to_string(tolerance) +
                                 ", allowed > 0");
   const int n = static_cast<int>(positions.rows());
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
   for (int g = 1;; g *= 2) {
-    const std::vector<int> patches = ReducedSole::grid_patches(positions, g, g, spacing);
-    if (*std::max_element(patches.begin(), patches.end()) + 1 == n)
-      break; // one node per patch: no reduction left
-    const ReducedSole reduced = reduce(patches);
+    const ReducedSole::ShareMatrix shares =
+        ReducedSole::grid_shares(positions, g, g, spacing, basis, weights);
+    if (shares.cols() >= n)
+      break; // as many patches as nodes: no reduction left
+    const ReducedSole reduced = reduce(shares);
     const double estimate = reduction_error_estimate(k_full, reduced, origin);
     if (estimate <= tolerance)
       return {g, reduced.n_patches(), estimate, true};
@@ -226,19 +321,21 @@ ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
 
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  const Eigen::MatrixXd& compliance, double tolerance,
-                                 GridSpacing spacing, const Eigen::VectorXd& weights) {
+                                 GridSpacing spacing, const Eigen::VectorXd& weights,
+                                 PatchBasis basis) {
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
   const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(positions, compliance, origin);
-  return choose_grid(positions, k_full, tolerance, spacing, [&](const std::vector<int>& patches) {
-    return ReducedSole(positions, compliance, patches, weights);
-  });
+  return choose_grid(positions, k_full, tolerance, spacing, basis, weights,
+                     [&](const ReducedSole::ShareMatrix& shares) {
+                       return ReducedSole(positions, compliance, shares);
+                     });
 }
 
 ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance, GridSpacing spacing,
-                                 const Eigen::VectorXd& weights) {
+                                 const Eigen::VectorXd& weights, PatchBasis basis) {
   return choose_grid(
-      sole.contact_positions(), sole.rigid_motion_stiffness(), tolerance, spacing,
-      [&](const std::vector<int>& patches) { return ReducedSole(sole, patches, weights); });
+      sole.contact_positions(), sole.rigid_motion_stiffness(), tolerance, spacing, basis, weights,
+      [&](const ReducedSole::ShareMatrix& shares) { return ReducedSole(sole, shares); });
 }
 
 } // namespace plantar::coupling

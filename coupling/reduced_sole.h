@@ -2,13 +2,24 @@
 // A reduced sole: the condensed compliance of a sole (condensed_sole.h) aggregated onto
 // coarser contact patches, one contact point per patch.
 //
-// Node k (of n, positions x_k, weight w_k > 0) belongs to patch j(k) (of P). A patch force
-// F_j (N) is shared by its nodes in proportion to their weights, f_k = s_k F_j with the share
-// s_k = w_k / W_j, W_j = sum_{k in j} w_k, and the patch displacement is the weighted mean of
-// its nodes' displacements, U_j = sum_{k in j} s_k u_k. With the aggregation matrix
-// A (3n x 3P), A_{kj} = s_k I_3 for k in j:
+// A patch force F_j (N) is shared by the nodes (of n, positions x_k) with the shares S_kj >= 0,
+// sum_k S_kj = 1 (the share matrix S, n x P), f_k = sum_j S_kj F_j, and the patch displacement
+// is the weighted mean U_j = sum_k S_kj u_k. With the aggregation matrix A = S (x) I_3
+// (3n x 3P):
 //
-//   f = A F,   U = A^T u,   C_r = A^T C A   (3P x 3P, m/N),   X_j = sum_{k in j} s_k x_k
+//   f = A F,   U = A^T u,   C_r = A^T C A   (3P x 3P, m/N),   X_j = sum_k S_kj x_k
+//
+// Two bases (PatchBasis) on a grid of cells:
+// - constant: a patch is a cell; node k (weight w_k > 0) of cell j has S_kj = w_k / W_j,
+//   W_j = sum_{k in j} w_k: a patch-wise constant pressure when the weights are the nodes'
+//   areas.
+// - bilinear: a patch is a grid vertex v with its hat function phi_v (bilinear on each cell,
+//   1 at v, 0 at the other vertices); S_kv = phi_v(x_k) w_k / sum_i phi_v(x_i) w_i. The patch
+//   forces are then the consistent nodal forces of a continuous, cell-wise bilinear pressure
+//   (pressure F_v / W_v at vertex v with area weights), nonnegative wherever every F_v,n is:
+//   the Signorini condition of a patch is that of a pressure interpolated from the vertices. On
+//   the 1 cm sole the bilinear 6 x 6 grid (49 patches) has a smaller estimate than the
+//   constant 16 x 16 (196 patches); docs/performance.md.
 //
 // Equal weights share a patch force equally among its nodes (s_k = 1 / n_j). The nodes'
 // consistent areas a_k = int N_k ds as weights (pressure_weights) make the patch's pressure
@@ -25,8 +36,9 @@
 // Patches from a grid: the nodes' bounding box in the sole's x-y plane split into nx x ny
 // cells, equal (GridSpacing::uniform) or graded towards the edges, where the contact pressure
 // of a bonded layer peaks (GridSpacing::chebyshev: cell edges at the Chebyshev-Lobatto points
-// lo + (hi - lo)(1 - cos(pi i / m)) / 2, i = 0..m); empty cells are dropped. Grids whose nx, ny
-// double are nested in either spacing.
+// lo + (hi - lo)(1 - cos(pi i / m)) / 2, i = 0..m); empty cells (constant) or vertices whose
+// hat covers no node (bilinear) are dropped. Grids whose nx, ny double are nested in either
+// spacing and basis.
 // Built from the dense C, or from a CondensedSole's factorization of K (Form::factorization):
 // C_r = (B A)^T K^-1 (B A) by 3P solves, without C (condensed_sole.h). Constant after
 // construction.
@@ -42,9 +54,22 @@ class CondensedSole;
 
 /// How grid_patches() spaces its cells (see above).
 enum class GridSpacing { uniform, chebyshev };
+/// The pressure of a patch force over the grid (see above): one patch per cell, or per vertex.
+enum class PatchBasis { constant, bilinear };
 
 class ReducedSole {
 public:
+  using ShareMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+  /// @p positions (n x 3, m, sole frame) and @p compliance (3n x 3n, m/N, node-major) of the
+  /// full condensed sole; @p shares (n x P) the share matrix S: nonnegative, every column
+  /// summing to 1. Throws std::invalid_argument naming the argument on bad sizes, a negative
+  /// share or a column that does not sum to 1.
+  ReducedSole(const Eigen::MatrixX3d& positions, const Eigen::MatrixXd& compliance,
+              const ShareMatrix& shares);
+  /// The same from @p sole's projected_compliance (3P solves with Form::factorization).
+  ReducedSole(const CondensedSole& sole, const ShareMatrix& shares);
+
   /// @p positions (n x 3, m, sole frame) and @p compliance (3n x 3n, m/N, node-major) of the
   /// full condensed sole; @p patch_of_node (n) the patch of each node, values in [0, P) with
   /// every patch non-empty. Throws std::invalid_argument naming the argument on bad sizes or
@@ -60,33 +85,44 @@ public:
   /// A (3n x 3P, sparse, dimensionless): A_kj = s_k I_3 for node k in patch j (shares of
   /// @p weights, equal when empty), P the largest value of @p patch_of_node plus one. Throws
   /// std::invalid_argument on an empty patch, a negative patch or a weight that is not > 0.
-  static Eigen::SparseMatrix<double, Eigen::ColMajor, int>
-  aggregation(const std::vector<int>& patch_of_node, const Eigen::VectorXd& weights = {});
+  static ShareMatrix aggregation(const std::vector<int>& patch_of_node,
+                                 const Eigen::VectorXd& weights = {});
+  /// A = S (x) I_3 (3n x 3P) of a share matrix @p shares (n x P).
+  static ShareMatrix aggregation(const ShareMatrix& shares);
+  /// The share matrix (n x P) of a partition: S_kj = w_k / W_j for node k in patch j. Same
+  /// arguments and throws as aggregation().
+  static ShareMatrix partition_shares(const std::vector<int>& patch_of_node,
+                                      const Eigen::VectorXd& weights = {});
+  /// The share matrix (n x P) of an @p nx x @p ny grid over the nodes' x-y bounding box in
+  /// @p basis (constant: the cells of grid_patches; bilinear: the (nx + 1)(ny + 1) vertices'
+  /// hats, those covering no node dropped), node weights @p weights (n, > 0; empty: equal).
+  /// Throws std::invalid_argument as grid_patches and on a bad weight.
+  static ShareMatrix grid_shares(const Eigen::MatrixX3d& positions, int nx, int ny,
+                                 GridSpacing spacing, PatchBasis basis,
+                                 const Eigen::VectorXd& weights = {});
 
   /// Patches from an @p nx x @p ny grid over the nodes' x-y bounding box (nx, ny >= 1), its
   /// cells spaced by @p spacing.
   static std::vector<int> grid_patches(const Eigen::MatrixX3d& positions, int nx, int ny,
                                        GridSpacing spacing = GridSpacing::uniform);
 
-  int n_patches() const { return static_cast<int>(patch_positions_.rows()); }
-  int n_nodes() const { return static_cast<int>(patch_of_node_.size()); }
-  /// Patch centres X_j (P x 3, m, sole frame): mean of their nodes.
+  int n_patches() const { return static_cast<int>(shares_.cols()); }
+  int n_nodes() const { return static_cast<int>(shares_.rows()); }
+  /// Patch centres X_j = sum_k S_kj x_k (P x 3, m, sole frame).
   const Eigen::MatrixX3d& patch_positions() const { return patch_positions_; }
   /// C_r = A^T C A (3P x 3P, m/N, sole frame, patch-major), symmetrized.
   const Eigen::MatrixXd& compliance() const { return compliance_; }
-  const std::vector<int>& patch_of_node() const { return patch_of_node_; }
-  /// Nodes in each patch.
+  /// Nodes with a nonzero share in each patch.
   const std::vector<int>& patch_sizes() const { return patch_sizes_; }
-  /// Share s_k of each node in its patch's force (n; they sum to 1 over a patch).
-  const Eigen::VectorXd& node_shares() const { return shares_; }
+  /// The share matrix S (n x P; each column sums to 1).
+  const ShareMatrix& shares() const { return shares_; }
 
 private:
-  /// Patch sizes, shares and centres; checks the sizes and weights.
-  void set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows,
-                   const Eigen::VectorXd& weights);
+  /// Patch sizes and centres; checks the sizes and the shares.
+  void set_patches(const Eigen::MatrixX3d& positions, int n_compliance_rows);
 
-  std::vector<int> patch_of_node_, patch_sizes_;
-  Eigen::VectorXd shares_;
+  ShareMatrix shares_;
+  std::vector<int> patch_sizes_;
   Eigen::MatrixX3d patch_positions_;
   Eigen::MatrixXd compliance_;
 };
@@ -122,19 +158,22 @@ struct ReductionChoice {
 
 /// The cheapest sole whose reduction_error_estimate is at most @p tolerance (> 0): the
 /// coarsest of the nested grids g x g, g = 1, 2, 4, ..., over the nodes' bounding box
-/// (grid_patches, @p spacing) with fewer patches than nodes; otherwise the full sole
+/// (grid_shares in @p spacing and @p basis, node weights @p weights) with fewer patches than
+/// nodes; otherwise the full sole
 /// (reached = false). @p positions (n x 3, m) and @p compliance (3n x 3n, m/N) of the full
 /// condensed sole; the origin is the nodes' centroid. Cost: one dense factorisation of C and
 /// one of each candidate's C_r. Throws std::invalid_argument on tolerance <= 0.
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  const Eigen::MatrixXd& compliance, double tolerance,
                                  GridSpacing spacing = GridSpacing::uniform,
-                                 const Eigen::VectorXd& weights = {});
+                                 const Eigen::VectorXd& weights = {},
+                                 PatchBasis basis = PatchBasis::constant);
 /// The same from @p sole (either form): its rigid_motion_stiffness() and each candidate's
 /// projected_compliance (3P solves with Form::factorization, no dense C).
 ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance,
                                  GridSpacing spacing = GridSpacing::uniform,
-                                 const Eigen::VectorXd& weights = {});
+                                 const Eigen::VectorXd& weights = {},
+                                 PatchBasis basis = PatchBasis::constant);
 
 /// Node weights for a uniform patch pressure from the nodes' consistent areas @p areas (n, m^2):
 /// w_k = max(a_k, 1e-3 mean(a)) (a P2 face's vertex nodes carry no area; the floor keeps every

@@ -2,15 +2,23 @@
 // dense C, for decreasing mesh size h: set-up time and memory of each route, the reduction
 // error estimate against the number of patches for uniform and Chebyshev-graded grids, and
 // the difference of the two routes' C_r; the graded grids also with a patch's force shared by
-// the nodes' areas (coupling::pressure_weights: a uniform patch pressure), "chebyshev-area". The HRP-2 sole of meshes/sole_box.geo (Q1, E = 4 MPa,
-// nu = 0.3). A timing app, not a test: prints tables, never passes or fails.
+// the nodes' areas (coupling::pressure_weights: a uniform patch pressure), "chebyshev-area",
+// and in the bilinear basis (one patch per grid vertex, area weights), "chebyshev-bilinear".
+// Where the dense route runs, also the pressure field's error under rigid motions of the bonded
+// face (all nodes stuck): the relative area-weighted L2 error of the nodal normal force per area,
+// f_r = A C_r^-1 R_r a against f = C^-1 R a, for a = z translation, pitch and roll. The HRP-2
+// sole of meshes/sole_box.geo (Q1, E = 4 MPa, nu = 0.3). A timing app, not a test: prints
+// tables, never passes or fails.
 // Usage: reduction_bench [--dense-up-to H] [h1 h2 ...] (m); the dense route is run for
 // h >= H only (default 0.004: below, C no longer fits a 2-core, 24 GB machine's time budget).
 #include "bench/coupling/sole_box_condensation.h"
 #include "bench/fem/peak_memory.h"
 #include "coupling/reduced_sole.h"
 
+#include <Eigen/Cholesky>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -26,6 +34,18 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 const char* name(coupling::GridSpacing spacing) {
   return spacing == coupling::GridSpacing::uniform ? "uniform" : "chebyshev";
+}
+
+/// R (3n x 6): the nodes' displacements under the rigid motions about @p origin (translation,
+/// then rotation about x, y, z).
+Eigen::MatrixXd rigid_map(const Eigen::MatrixX3d& x, const Eigen::Vector3d& origin) {
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * x.rows(), 6);
+  for (Eigen::Index k = 0; k < x.rows(); ++k) {
+    const Eigen::Vector3d d = x.row(k).transpose() - origin;
+    r.block<3, 3>(3 * k, 0).setIdentity();
+    r.block<3, 3>(3 * k, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
+  }
+  return r;
 }
 
 } // namespace
@@ -46,7 +66,7 @@ int main(int argc, char** argv) {
   std::printf("# set-up: route, h (m), contact nodes, set-up s (assembly + factorization + "
               "solves), kept MB, peak RSS MB so far\n");
   std::printf("# grids: h, spacing, g, patches, estimate, C_r s (3P solves), max |C_r(K) - "
-              "C_r(C)| / max |C_r(C)| (dense route only)\n");
+              "C_r(C)| / max |C_r(C)|, pressure error z, pitch, roll (dense route only)\n");
   for (const double h : sizes) {
     auto start = std::chrono::steady_clock::now();
     const coupling::CondensedSole factored = bench::condense_sole_box(h, 64, Form::factorization);
@@ -71,28 +91,51 @@ int main(int argc, char** argv) {
     for (int k = 0; k < n; ++k)
       areas[k] = load[3 * k + 2];
     const Eigen::VectorXd area_weights = coupling::pressure_weights(areas);
-    for (const int variant : {0, 1, 2}) // uniform, chebyshev, chebyshev with area shares
+    // The full sole's nodal forces under the rigid motions (dense route only).
+    Eigen::MatrixXd f_full;
+    if (dense)
+      f_full = dense->compliance().ldlt().solve(rigid_map(x, origin));
+    const char* suffix[] = {"", "", "-area", "-bilinear"};
+    // uniform, chebyshev, chebyshev with area shares, chebyshev bilinear (area weights)
+    for (const int variant : {0, 1, 2, 3})
       for (int g = 2; g <= 32; g *= 2) {
         const auto spacing =
             variant == 0 ? coupling::GridSpacing::uniform : coupling::GridSpacing::chebyshev;
-        const Eigen::VectorXd weights = variant == 2 ? area_weights : Eigen::VectorXd();
-        const auto patches = coupling::ReducedSole::grid_patches(x, g, g, spacing);
-        start = std::chrono::steady_clock::now();
-        const coupling::ReducedSole reduced(factored, patches, weights);
-        const double t_reduce = seconds_since(start);
-        if (reduced.n_patches() >= n)
+        const Eigen::VectorXd weights = variant >= 2 ? area_weights : Eigen::VectorXd();
+        const auto basis =
+            variant == 3 ? coupling::PatchBasis::bilinear : coupling::PatchBasis::constant;
+        const auto shares = coupling::ReducedSole::grid_shares(x, g, g, spacing, basis, weights);
+        if (shares.cols() >= n)
           break;
+        start = std::chrono::steady_clock::now();
+        const coupling::ReducedSole reduced(factored, shares);
+        const double t_reduce = seconds_since(start);
         const double estimate =
             coupling::reduction_error_estimate(factored.rigid_motion_stiffness(), reduced, origin);
         double difference = -1;
+        Eigen::Vector3d pressure = Eigen::Vector3d::Constant(-1);
         if (dense) {
-          const coupling::ReducedSole from_c(x, dense->compliance(), patches, weights);
+          const coupling::ReducedSole from_c(x, dense->compliance(), shares);
           difference = (reduced.compliance() - from_c.compliance()).cwiseAbs().maxCoeff() /
                        from_c.compliance().cwiseAbs().maxCoeff();
+          const Eigen::MatrixXd a(coupling::ReducedSole::aggregation(shares));
+          const Eigen::MatrixXd f_r =
+              a * from_c.compliance().ldlt().solve(rigid_map(from_c.patch_positions(), origin));
+          const int motion[3] = {2, 4, 3}; // z, pitch (about y), roll (about x)
+          for (int m = 0; m < 3; ++m) {
+            double num = 0, den = 0;
+            for (int k = 0; k < n; ++k) {
+              const double p = f_full(3 * k + 2, motion[m]) / area_weights[k];
+              const double p_r = f_r(3 * k + 2, motion[m]) / area_weights[k];
+              num += area_weights[k] * (p - p_r) * (p - p_r);
+              den += area_weights[k] * p * p;
+            }
+            pressure[m] = std::sqrt(num / den);
+          }
         }
-        std::printf("grid %.4f %s%s %d %d %.4g %.3f %.1e\n", h, name(spacing),
-                    variant == 2 ? "-area" : "", g, reduced.n_patches(),
-                    estimate, t_reduce, difference);
+        std::printf("grid %.4f %s%s %d %d %.4g %.3f %.1e %.3g %.3g %.3g\n", h, name(spacing),
+                    suffix[variant], g, reduced.n_patches(), estimate, t_reduce, difference,
+                    pressure[0], pressure[1], pressure[2]);
         std::fflush(stdout);
       }
   }

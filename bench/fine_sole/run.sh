@@ -12,9 +12,12 @@
 #             grids, 2 cm to 2.5 mm (reduction_bench; the dense route to 5 mm)
 #   walk_1cm  the six-step walk on the 1 cm sole (walk_1cm.prm, 345 nodes): uniform reduced
 #             soles of 8 x 8 and 16 x 16 patches, Chebyshev-graded ones of 4 x 4 to 16 x 16 and
-#             graded auto at 0.01 against the full sole (work_precision --only "sole model")
+#             graded auto at 0.01, graded 16 x 16 with area shares (the scene default) and the
+#             bilinear basis on graded 4 x 4 to 8 x 8 grids, against the full sole
+#             (work_precision --only "sole model")
 #   walk_5mm  the same on the 5 mm sole (walk_5mm.prm, 1305 nodes): uniform 8 x 8 and
-#             16 x 16, graded 8 x 8 to 16 x 16 and graded auto at 0.01
+#             16 x 16, graded 8 x 8 to 16 x 16 and graded auto at 0.01, bilinear 6 x 6 to
+#             12 x 12
 #   hmatrix   one contact solve on the H-matrix compliance against the dense one, 96 to 2016
 #             nodes (hierarchical_compliance_bench)
 #   table     OUT_DIR/tables.md and OUT_DIR/scaling.png (table.py)
@@ -47,10 +50,12 @@ for stage in $stages; do
       0.005 0.004 0.003 0.0025 >"$out/reduction.txt" ;;
   walk_1cm)
     $wp "$here/walk_1cm.prm" --out "$out/walk_1cm" --no-hyperelastic --only "sole model" \
-      --patches 8,16 --graded-patches 4,8,12,16 --graded-auto 0.01 >"$out/walk_1cm.txt" ;;
+      --patches 8,16 --graded-patches 4,8,12,16 --graded-auto 0.01 --area-patches 16 \
+      --bilinear-patches 4,6,8 >"$out/walk_1cm.txt" ;;
   walk_5mm)
     $wp "$here/walk_5mm.prm" --out "$out/walk_5mm" --no-hyperelastic --only "sole model" \
-      --patches 8,16 --graded-patches 8,12,16 --graded-auto 0.01 >"$out/walk_5mm.txt" ;;
+      --patches 8,16 --graded-patches 8,12,16 --graded-auto 0.01 --bilinear-patches 6,8,12 \
+      >"$out/walk_5mm.txt" ;;
   hmatrix)
     taskset -c "$core" "$build/bench/coupling/hierarchical_compliance_bench" 0.02 0.0125 0.008 0.005 \
       0.004 >"$out/hmatrix.txt" ;;

@@ -131,7 +131,7 @@ def reduction(out):
             setup[(f[1], float(f[2]))] = (int(f[3]), float(f[4]), float(f[5]))
         elif f and f[0] == "grid":
             grids.append((float(f[1]), f[2], int(f[3]), int(f[4]), float(f[5]), float(f[6]),
-                          float(f[7])))
+                          float(f[7]), [float(v) for v in f[8:11]]))
     print("## Reduced soles from the factorization of K (reduction.txt)\n")
     print("Set-up of the condensed sole: the factorization route (assembly, Cholesky of K, the"
           " rigid-motion stiffness through K_nn; kept: the factor of K) against the dense route"
@@ -149,18 +149,27 @@ def reduction(out):
         print(f"| {h} | {n} | {t:.3g} | {mb:.3g} | {dense[1]:.3g} | {dense[2]:.3g} |" if dense
               else f"| {h} | {n} | {t:.3g} | {mb:.3g} | - | - |", end="")
         print(f" {c8[0]:.3g} |" if c8 else " - |", f"{c16[0]:.3g} |" if c16 else "- |")
-    print("\nThe reduction error estimate against the patches, uniform and Chebyshev-graded grids"
-          " (max |C_r from K - C_r from C| / max |C_r| where the dense route ran):\n")
+    print("\nThe reduction error estimate against the patches: uniform and Chebyshev-graded grids"
+          " (constant basis, equal shares), and graded grids in the bilinear basis (one patch per"
+          " vertex, area weights); the pressure error under a pitch of the bonded face (relative"
+          " L2, where the dense route ran); max |C_r from K - C_r from C| / max |C_r|:\n")
     print("| h (m) | g | uniform patches | uniform estimate | graded patches | graded estimate |"
-          " route difference |")
-    print("|---|---|---|---|---|---|---|")
+          " graded pitch pressure | bilinear patches | bilinear estimate | bilinear pitch"
+          " pressure | route difference |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+
+    def pitch(rows):
+        return f"{rows[0][7][1]:.3g}" if rows and len(rows[0][7]) > 1 and rows[0][7][1] >= 0 \
+            else "-"
     for h in sorted({g[0] for g in grids}, reverse=True):
         for g in sorted({g[2] for g in grids if g[0] == h}):
             u = [x for x in grids if x[0] == h and x[2] == g and x[1] == "uniform"]
             c = [x for x in grids if x[0] == h and x[2] == g and x[1] == "chebyshev"]
-            diff = max([x[6] for x in u + c] + [-1])
+            b = [x for x in grids if x[0] == h and x[2] == g and x[1] == "chebyshev-bilinear"]
+            diff = max([x[6] for x in u + c + b] + [-1])
             print(f"| {h} | {g} | {u[0][3] if u else '-'} | {f'{u[0][4]:.3g}' if u else '-'} |"
-                  f" {c[0][3] if c else '-'} | {f'{c[0][4]:.3g}' if c else '-'} |"
+                  f" {c[0][3] if c else '-'} | {f'{c[0][4]:.3g}' if c else '-'} | {pitch(c)} |"
+                  f" {b[0][3] if b else '-'} | {f'{b[0][4]:.3g}' if b else '-'} | {pitch(b)} |"
                   f" {f'{diff:.1e}' if diff >= 0 else '-'} |")
     print()
 

@@ -13,17 +13,19 @@
 // Chebyshev-graded grids (Sole/Reduction spacing = chebyshev), rows "graded GxG", "graded auto
 // TOL" (all these with equal shares of a patch's force, Sole/Reduction weights = equal);
 // --area-patches G and --area-auto TOL: graded grids with shares by node area (the scene
-// default), rows "area GxG", "area auto TOL". For each scene (run with Robot/Foot form = fem sole;
-// durations: drop 0.5 s, walk the whole scene unless given), one knob at a time is varied from the
-// scene's own setting, the others kept: sole mesh size, element degree, time step, the time step
-// with the theta = 1/2 stepper on a Kelvin-Voigt sole ("damped theta 1/2 dt"), contact solver
-// tolerance, sole model (reduced patches nx x ny, full) and the hyperelastic sole (Neo-Hookean,
-// same E and nu, full sole; Sole/Recondensation tolerance = Sole/Check tolerance varied) and the
-// viscoelastic sole (one Prony branch of half the scene's E relaxing in 4.5 ms: a standard linear
-// solid whose instantaneous modulus is the scene's, docs/reproduction.md), its time step and its
-// mesh size varied. --only runs the named knobs (and rigid feet). Each knob's finest value is that
-// knob's reference; the row "linear vs hyper" is the linear full sole against the tightest
-// hyperelastic run. Errors against the reference:
+// default), rows "area GxG", "area auto TOL"; --bilinear-patches G: graded grids, shares by
+// node area, Sole/Reduction basis = bilinear (one contact per grid vertex), rows "bilinear GxG".
+// For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole scene
+// unless given), one knob at a time is varied from the scene's own setting, the others kept: sole
+// mesh size, element degree, time step, the time step with the theta = 1/2 stepper on a
+// Kelvin-Voigt sole ("damped theta 1/2 dt"), contact solver tolerance, sole model (reduced patches
+// nx x ny, full) and the hyperelastic sole (Neo-Hookean, same E and nu, full sole;
+// Sole/Recondensation tolerance = Sole/Check tolerance varied) and the viscoelastic sole (one Prony
+// branch of half the scene's E relaxing in 4.5 ms: a standard linear solid whose instantaneous
+// modulus is the scene's, docs/reproduction.md), its time step and its mesh size varied. --only
+// runs the named knobs (and rigid feet). Each knob's finest value is that knob's reference; the row
+// "linear vs hyper" is the linear full sole against the tightest hyperelastic run. Errors against
+// the reference:
 //   e_a  |max |a_z,waist| - ref| / ref                   (the paper's criterion)
 //   e_u  |max normal sole deformation - ref| / ref       (max over nodes and time)
 //   e_p  max_w |P_w - P_w,ref| / max_w |P_w,ref|, P_w the vertical contact impulse summed
@@ -104,9 +106,8 @@ struct Result {
   double solve_time = NAN, pass_time = NAN, operator_bytes = 0;
   // Issue 25's quantities of interest. patches: the reduced grid (0: the full sole).
   int patches_x = 0, patches_y = 0;
-  coupling::GridSpacing spacing = coupling::GridSpacing::uniform; // of the reduced grid
-  Eigen::VectorXd shares; // of the reduced sole's nodes in their patch's force (empty: full)
-  double peak_af = 0;     // filtered waist |a_z| peak, m/s^2
+  coupling::ReducedSole::ShareMatrix shares;    // n x P, of the patch forces (empty: full sole)
+  double peak_af = 0;                           // filtered waist |a_z| peak, m/s^2
   std::array<std::vector<Landing>, 2> landings; // right, left
   Eigen::Matrix3Xd nodes;                       // contact points of a foot (sole frame, m)
   std::vector<double> frame_time;               // s
@@ -233,10 +234,9 @@ void run_one(const Scene& scene, Result& result, int repeat, double frame_every)
         result.landings[foot] = simulation.landings(foot);
       result.patches_x = summary.sole_reduction_x;
       result.patches_y = summary.sole_reduction_y;
-      result.spacing = scene.sole_reduction.spacing;
       if (const auto* foot = dynamic_cast<const CondensedSoleFoot*>(&simulation.foot_model()))
         if (foot->reduced())
-          result.shares = foot->reduced()->node_shares();
+          result.shares = foot->reduced()->shares();
       result.reduction_estimate = summary.sole_reduction_estimate;
       if (fem) {
         const auto& sole = dynamic_cast<const SolePatchFoot&>(simulation.foot_model());
@@ -347,17 +347,8 @@ void compare_issue25(Result& r, const Result& ref) {
   r.e_cop = cop;
   const bool same_mesh = ref.patches_x == 0 && r.nodes.cols() > 0 &&
                          (r.patches_x > 0 || r.nodes.cols() == ref.nodes.cols());
-  if (!same_mesh)
+  if (!same_mesh || (r.patches_x > 0 && r.shares.rows() != ref.nodes.cols()))
     return;
-  std::vector<int> patch_of_node;
-  std::vector<double> patch_size;
-  if (r.patches_x > 0) {
-    patch_of_node = coupling::ReducedSole::grid_patches(ref.nodes.transpose(), r.patches_x,
-                                                        r.patches_y, r.spacing);
-    patch_size.assign(r.nodes.cols(), 0.0);
-    for (const int j : patch_of_node)
-      patch_size.at(j) += 1;
-  }
   std::vector<double> errors;
   Eigen::VectorXd spread(ref.nodes.cols());
   for (int foot = 0; foot < 2; ++foot)
@@ -367,10 +358,7 @@ void compare_issue25(Result& r, const Result& ref) {
         continue;
       const Eigen::VectorXd& a = r.normal_force[foot][k];
       if (r.patches_x > 0)
-        for (Eigen::Index i = 0; i < spread.size(); ++i)
-          spread[i] =
-              a[patch_of_node[i]] *
-              (r.shares.size() == spread.size() ? r.shares[i] : 1.0 / patch_size[patch_of_node[i]]);
+        spread = r.shares * a;
       else
         spread = a;
       errors.push_back((spread - b).norm() / b.norm());
@@ -485,6 +473,7 @@ int main(int argc, char** argv) {
   std::vector<double> graded_auto;     // --graded-auto: auto rows on Chebyshev grids
   std::vector<double> area_patches;    // --area-patches: Chebyshev grids, shares by node area
   std::vector<double> area_auto;       // --area-auto: auto rows of the same
+  std::vector<double> bilinear_patches; // --bilinear-patches: graded grids, bilinear basis
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc)
@@ -519,6 +508,8 @@ int main(int argc, char** argv) {
       area_patches = number_list(argv[++i]);
     else if (a == "--area-auto" && i + 1 < argc)
       area_auto = number_list(argv[++i]);
+    else if (a == "--bilinear-patches" && i + 1 < argc)
+      bilinear_patches = number_list(argv[++i]);
     else if (a == "--only" && i + 1 < argc) {
       std::string list = argv[++i];
       for (std::size_t start = 0; start <= list.size();) {
@@ -664,14 +655,16 @@ int main(int argc, char** argv) {
       // Equal shares of a patch's force (reduced, graded) or shares by node area (area).
       const auto add_reduced = [&v](const std::string& prefix, coupling::GridSpacing spacing,
                                     bool area, const std::vector<double>& grids,
-                                    const std::vector<double>& tolerances) {
+                                    const std::vector<double>& tolerances,
+                                    coupling::PatchBasis basis = coupling::PatchBasis::constant) {
         for (const double p : grids)
           v.push_back({"sole model", prefix + std::to_string(int(p)) + "x" + std::to_string(int(p)),
-                       [g = int(p), spacing, area](Scene& s) {
+                       [g = int(p), spacing, area, basis](Scene& s) {
                          s.sole_reduction = {};
                          s.sole_reduction.patches_x = s.sole_reduction.patches_y = g;
                          s.sole_reduction.spacing = spacing;
                          s.sole_reduction.area_weights = area;
+                         s.sole_reduction.basis = basis;
                        }});
         for (const double tolerance : tolerances)
           v.push_back({"sole model", prefix + "auto " + fmt(tolerance, "%.3g"),
@@ -689,6 +682,7 @@ int main(int argc, char** argv) {
       add_reduced("", uniform, false, {}, auto_tolerances);
       add_reduced("graded ", graded, false, graded_patches, graded_auto);
       add_reduced("area ", graded, true, area_patches, area_auto);
+      add_reduced("bilinear ", graded, true, bilinear_patches, {}, coupling::PatchBasis::bilinear);
       v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
       knobs.push_back(v);
     }

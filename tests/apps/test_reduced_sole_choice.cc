@@ -83,6 +83,59 @@ TEST(ReducedSoleChoice, GivenGridReportsItsEstimate) {
   EXPECT_EQ(simulation.summary().sole_reduction_x, 2);
 }
 
+// Sole/Reduction basis = bilinear: one contact per grid vertex ((g + 1)^2 on this sole), the
+// estimate of the scene's sole (from the factorization of K) equal to the dense route's, the
+// auto choice equal to choose_reduction's in that basis, and the robot standing on it: the
+// contact force balances its weight.
+TEST(ReducedSoleChoice, BilinearBasisScene) {
+  Scene full = auto_scene("0.2");
+  full.sole_reduction = {};
+  HumanoidSimulation reference(full);
+  const int n = reference.summary().n_sole_nodes;
+  const coupling::CondensedSole& sole =
+      *dynamic_cast<const CondensedSoleFoot&>(reference.foot_model()).sole();
+  Eigen::VectorXd load(3 * n), areas(n);
+  sole.contact_load(Eigen::Vector3d(0, 0, 1), load);
+  for (int k = 0; k < n; ++k)
+    areas[k] = load[3 * k + 2];
+  const Eigen::VectorXd weights = coupling::pressure_weights(areas);
+  const Eigen::MatrixX3d& x = sole.contact_positions();
+  const Eigen::Vector3d origin = x.colwise().mean().transpose();
+  Scene scene = testing::load_humanoid_scene("stand", {{"Robot/Foot form", "fem sole"},
+                                                       {"Sole/Reduced patches", "4, 4"},
+                                                       {"Sole/Reduction basis", "bilinear"},
+                                                       {"Simulation/Duration", "0.3"}});
+  ASSERT_EQ(scene.sole_reduction.basis, coupling::PatchBasis::bilinear);
+  HumanoidSimulation simulation(scene);
+  simulation.run();
+  const HumanoidSummary& s = simulation.summary();
+  const coupling::ReducedSole dense(
+      x, sole.compliance(),
+      coupling::ReducedSole::grid_shares(x, 4, 4, scene.sole_reduction.spacing,
+                                         coupling::PatchBasis::bilinear, weights));
+  const double expected =
+      coupling::reduction_error_estimate(sole.rigid_motion_stiffness(), dense, origin);
+  const double weight = s.robot_mass * 9.81;
+  std::printf("bilinear 4 x 4: %d contacts per foot (full %d), estimate %.4f; force %.2f N for "
+              "a weight of %.2f N\n",
+              s.n_sole_nodes, n, s.sole_reduction_estimate, s.final_contact_force.z(), weight);
+  EXPECT_EQ(s.n_sole_nodes, 25);
+  EXPECT_NEAR(s.sole_reduction_estimate, expected, 1e-10 * expected);
+  EXPECT_NEAR(s.final_contact_force.z(), weight, 5e-3 * weight);
+  EXPECT_NEAR(s.simulated_time, 0.3, 1e-9);
+  // auto in the bilinear basis.
+  Scene automatic = auto_scene("0.02");
+  automatic.sole_reduction.basis = coupling::PatchBasis::bilinear;
+  const coupling::ReductionChoice choice =
+      coupling::choose_reduction(x, sole.compliance(), 0.02, automatic.sole_reduction.spacing,
+                                 weights, coupling::PatchBasis::bilinear);
+  HumanoidSimulation chosen(automatic);
+  EXPECT_TRUE(choice.reached);
+  EXPECT_EQ(chosen.summary().sole_reduction_x, choice.grid);
+  EXPECT_EQ(chosen.summary().n_sole_nodes, choice.n_patches);
+  EXPECT_NEAR(chosen.summary().sole_reduction_estimate, choice.estimate, 1e-10 * choice.estimate);
+}
+
 TEST(ReducedSoleChoice, BadEntriesAreNamed) {
   for (const auto& [entry, value] : std::vector<std::pair<std::string, std::string>>{
            {"Sole/Reduction tolerance", "0"}, {"Sole/Reduced patches", "automatic"}}) {
