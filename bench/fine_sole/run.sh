@@ -17,7 +17,7 @@
 #             (work_precision --only "sole model")
 #   walk_5mm  the same on the 5 mm sole (walk_5mm.prm, 1305 nodes): uniform 8 x 8 and
 #             16 x 16, graded 8 x 8 to 16 x 16 and graded auto at 0.01, bilinear 6 x 6 to
-#             12 x 12
+#             12 x 12 (9 x 9: walk_5mm_bilinear.prm)
 #   hmatrix   one contact solve on the H-matrix compliance against the dense one, 96 to 2016
 #             nodes (hierarchical_compliance_bench)
 #   table     OUT_DIR/tables.md and OUT_DIR/scaling.png (table.py)
@@ -54,7 +54,7 @@ for stage in $stages; do
       --bilinear-patches 4,6,8 >"$out/walk_1cm.txt" ;;
   walk_5mm)
     $wp "$here/walk_5mm.prm" --out "$out/walk_5mm" --no-hyperelastic --only "sole model" \
-      --patches 8,16 --graded-patches 8,12,16 --graded-auto 0.01 --bilinear-patches 6,8,12 \
+      --patches 8,16 --graded-patches 8,12,16 --graded-auto 0.01 --bilinear-patches 6,8,9,12 \
       >"$out/walk_5mm.txt" ;;
   hmatrix)
     taskset -c "$core" "$build/bench/coupling/hierarchical_compliance_bench" 0.02 0.0125 0.008 0.005 \
