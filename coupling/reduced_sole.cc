@@ -169,11 +169,9 @@ struct GridAxis {
     const double t = spacing == GridSpacing::uniform ? s : std::acos(1 - 2 * s) / M_PI;
     const int i = std::clamp(static_cast<int>(std::floor(t * m)), 0, m - 1);
     const double lo = edge(i), hi = edge(i + 1);
+    // A node on a vertex line up to gmsh's round-off (1e-9 of the cell) is on it exactly.
     const double u = std::clamp((x - lo) / (hi - lo), 0.0, 1.0);
-    return {i, u < 1e-9       ? 0.0
-               : u > 1 - 1e-9 ? 1.0
-                              : u}; // a node on a vertex line (gmsh's
-                                    // round-off): exactly on it
+    return {i, u < 1e-9 ? 0.0 : (u > 1 - 1e-9 ? 1.0 : u)};
   }
 };
 
@@ -254,6 +252,16 @@ ReducedSole::ShareMatrix ReducedSole::grid_shares(const Eigen::MatrixX3d& positi
   return shares;
 }
 
+Eigen::MatrixXd rigid_motion_map(const Eigen::MatrixX3d& positions, const Eigen::Vector3d& origin) {
+  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * positions.rows(), 6);
+  for (Eigen::Index k = 0; k < positions.rows(); ++k) {
+    const Eigen::Vector3d d = positions.row(k).transpose() - origin;
+    r.block<3, 3>(3 * k, 0).setIdentity();
+    r.block<3, 3>(3 * k, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
+  }
+  return r;
+}
+
 Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& positions,
                                                    const Eigen::MatrixXd& compliance,
                                                    const Eigen::Vector3d& origin) {
@@ -262,12 +270,7 @@ Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& posit
     throw std::invalid_argument(
         "rigid_motion_stiffness: compliance " + std::to_string(compliance.rows()) + "x" +
         std::to_string(compliance.cols()) + ", expected " + std::to_string(3 * n) + " square");
-  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * n, 6);
-  for (int k = 0; k < n; ++k) {
-    const Eigen::Vector3d d = positions.row(k).transpose() - origin;
-    r.block<3, 3>(3 * k, 0).setIdentity();
-    r.block<3, 3>(3 * k, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
-  }
+  const Eigen::MatrixXd r = rigid_motion_map(positions, origin);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(compliance);
   const Eigen::MatrixXd k = r.transpose() * ldlt.solve(r);
   return 0.5 * (k + k.transpose());
@@ -275,13 +278,7 @@ Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& posit
 
 double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
                                 const ReducedSole& reduced, const Eigen::Vector3d& origin) {
-  const int p = reduced.n_patches();
-  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * p, 6);
-  for (int j = 0; j < p; ++j) {
-    const Eigen::Vector3d d = reduced.patch_positions().row(j).transpose() - origin;
-    r.block<3, 3>(3 * j, 0).setIdentity();
-    r.block<3, 3>(3 * j, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
-  }
+  const Eigen::MatrixXd r = rigid_motion_map(reduced.patch_positions(), origin);
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced.compliance());
   const Eigen::Matrix<double, 6, 6> k_r = r.transpose() * ldlt.solve(r);
   const Eigen::Matrix<double, 6, 1> scale = k_full.diagonal().cwiseSqrt().cwiseInverse();

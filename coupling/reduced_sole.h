@@ -17,9 +17,7 @@
 //   1 at v, 0 at the other vertices); S_kv = phi_v(x_k) w_k / sum_i phi_v(x_i) w_i. The patch
 //   forces are then the consistent nodal forces of a continuous, cell-wise bilinear pressure
 //   (pressure F_v / W_v at vertex v with area weights), nonnegative wherever every F_v,n is:
-//   the Signorini condition of a patch is that of a pressure interpolated from the vertices. On
-//   the 1 cm sole the bilinear 6 x 6 grid (49 patches) has a smaller estimate than the
-//   constant 16 x 16 (196 patches); docs/performance.md.
+//   the Signorini condition of a patch is that of a pressure interpolated from the vertices.
 //
 // Equal weights share a patch force equally among its nodes (s_k = 1 / n_j). The nodes'
 // consistent areas a_k = int N_k ds as weights (pressure_weights) make the patch's pressure
@@ -127,8 +125,13 @@ private:
   Eigen::MatrixXd compliance_;
 };
 
+/// R (3n x 6, m per m and m per rad): the displacements of points @p positions (n x 3, m)
+/// under the rigid motions about @p origin, R_k = [I_3, -[x_k - x_0]_x] (translation, then
+/// rotation about x, y, z).
+Eigen::MatrixXd rigid_motion_map(const Eigen::MatrixX3d& positions, const Eigen::Vector3d& origin);
+
 /// Stiffness of the contact face against rigid motions (6 x 6): K = R^T C^-1 R with
-/// R_k = [I_3, -[x_k - x_0]_x] (3 x 6 per node, translation then rotation, rad), @p positions
+/// R = rigid_motion_map (translation then rotation, rad), @p positions
 /// (n x 3, m), @p compliance (3n x 3n, m/N), @p origin x_0 (m). Units: N/m, N/rad, N m/rad.
 /// Used to compare a reduced sole with the full one. Allocates.
 Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& positions,

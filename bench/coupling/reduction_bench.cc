@@ -36,18 +36,6 @@ const char* name(coupling::GridSpacing spacing) {
   return spacing == coupling::GridSpacing::uniform ? "uniform" : "chebyshev";
 }
 
-/// R (3n x 6): the nodes' displacements under the rigid motions about @p origin (translation,
-/// then rotation about x, y, z).
-Eigen::MatrixXd rigid_map(const Eigen::MatrixX3d& x, const Eigen::Vector3d& origin) {
-  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * x.rows(), 6);
-  for (Eigen::Index k = 0; k < x.rows(); ++k) {
-    const Eigen::Vector3d d = x.row(k).transpose() - origin;
-    r.block<3, 3>(3 * k, 0).setIdentity();
-    r.block<3, 3>(3 * k, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
-  }
-  return r;
-}
-
 } // namespace
 
 int main(int argc, char** argv) {
@@ -94,7 +82,7 @@ int main(int argc, char** argv) {
     // The full sole's nodal forces under the rigid motions (dense route only).
     Eigen::MatrixXd f_full;
     if (dense)
-      f_full = dense->compliance().ldlt().solve(rigid_map(x, origin));
+      f_full = dense->compliance().ldlt().solve(coupling::rigid_motion_map(x, origin));
     const char* suffix[] = {"", "", "-area", "-bilinear"};
     // uniform, chebyshev, chebyshev with area shares, chebyshev bilinear (area weights)
     for (const int variant : {0, 1, 2, 3})
@@ -120,7 +108,8 @@ int main(int argc, char** argv) {
                        from_c.compliance().cwiseAbs().maxCoeff();
           const Eigen::MatrixXd a(coupling::ReducedSole::aggregation(shares));
           const Eigen::MatrixXd f_r =
-              a * from_c.compliance().ldlt().solve(rigid_map(from_c.patch_positions(), origin));
+              a * from_c.compliance().ldlt().solve(
+                      coupling::rigid_motion_map(from_c.patch_positions(), origin));
           const int motion[3] = {2, 4, 3}; // z, pitch (about y), roll (about x)
           for (int m = 0; m < 3; ++m) {
             double num = 0, den = 0;

@@ -444,8 +444,9 @@ TEST(ReducedSole, AreaSharesGiveAUniformPatchPressure) {
                   degree, sole.n_contacts(), g, g, e_area, e_equal);
       EXPECT_LE(e_area, previous * (1 + 1e-12)) << g;
       previous = e_area;
-      if (degree == 2 && g >= 4)
+      if (degree == 2 && g >= 4) {
         EXPECT_LT(e_area, 0.5 * e_equal) << g;
+      }
     }
   }
   EXPECT_THROW(pressure_weights(Eigen::VectorXd::Zero(3)), std::invalid_argument);
