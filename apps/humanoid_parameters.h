@@ -79,8 +79,9 @@ struct SoleReductionParameters {
   /// pressure, coupling::pressure_weights) or equally.
   bool area_weights = true;
   /// Sole/Reduction basis: one patch per grid cell (a cell-wise constant pressure) or per grid
-  /// vertex (a continuous, cell-wise bilinear pressure; coupling/reduced_sole.h).
-  coupling::PatchBasis basis = coupling::PatchBasis::constant;
+  /// vertex (a continuous, cell-wise bilinear pressure; coupling/reduced_sole.h). Bilinear, the
+  /// default, needs 2.5 to 6 times fewer contacts for a given estimate (docs/performance.md).
+  coupling::PatchBasis basis = coupling::PatchBasis::bilinear;
   bool reduced() const { return patches_x > 0 || automatic; }
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);

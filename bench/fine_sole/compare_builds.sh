@@ -5,8 +5,9 @@
 #   bench/fine_sole/compare_builds.sh OLD_PLANTAR NEW_PLANTAR OUT_DIR [SCENE ...]
 # Scenes (all by default): stand_<h> (the robot standing 0.05 s on the full Q1 sole of mesh size
 # h = 0.02, 0.0125, 0.008, 0.006, 0.005 m), walk_<mesh>_g<g> (the six-step walk of walk_1cm.prm
-# or walk_5mm.prm on the Chebyshev-graded reduced sole of g x g patches, g = 8, 12, 16) and
-# walk_1cm_full. NEW runs on core 0 while OLD runs the same scene on core 1 (the same load on
+# or walk_5mm.prm on the Chebyshev-graded reduced sole of g x g patches in the constant basis,
+# g = 8, 12, 16), walk_<mesh>_b<g> (the same in the bilinear basis; not by default) and
+# walk_1cm_full. Builds from 42b7492 on (Sole/Reduction basis). NEW runs on core 0 while OLD runs the same scene on core 1 (the same load on
 # both). Writes OUT_DIR/compare.md (compare_builds.py). Results: docs/performance.md.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -28,11 +29,12 @@ for scene in $scenes; do
   walk_*_full)
     mesh=${scene#walk_}
     printf 'include %s\n' "$here/walk_${mesh%_full}.prm" >"$prm" ;;
-  walk_*_g*)
+  walk_*_g* | walk_*_b*)
     mesh=${scene#walk_}
-    g=${mesh#*_g}
-    printf 'include %s\nsubsection Sole\n  set Reduced patches = %s, %s\nend\n' \
-      "$here/walk_${mesh%_g*}.prm" "$g" "$g" >"$prm" ;;
+    g=${mesh##*_[gb]}
+    case $mesh in *_g*) basis=constant ;; *) basis=bilinear ;; esac
+    printf 'include %s\nsubsection Sole\n  set Reduced patches = %s, %s\n  set Reduction basis = %s\nend\n' \
+      "$here/walk_${mesh%_[gb]*}.prm" "$g" "$g" "$basis" >"$prm" ;;
   *)
     echo "compare_builds.sh: unknown scene '$scene'" >&2
     exit 1 ;;

@@ -7,11 +7,12 @@
 //
 // --mesh-sizes: the mesh knob's sizes (m; default the scene's x 4/3, 1, 2/3, 1/2); --patches:
 // the sole model knob's grids (default 2, 3, 4, 6, 8); --mesh-patches G: one more knob per G,
-// "mesh reduced GxG", the mesh sizes on a G x G reduced sole (cost against contact nodes,
-// bench/fine_sole/); --auto TOL: sole model rows "auto TOL" (Sole/Reduced patches = auto,
+// "mesh reduced GxG", the mesh sizes on a uniform G x G reduced sole in the constant basis
+// (cost against contact nodes, bench/fine_sole/); --auto TOL: sole model rows "auto TOL" (Sole/Reduced patches = auto,
 // Sole/Reduction tolerance = TOL); --graded-patches G and --graded-auto TOL: the same on
 // Chebyshev-graded grids (Sole/Reduction spacing = chebyshev), rows "graded GxG", "graded auto
-// TOL" (all these with equal shares of a patch's force, Sole/Reduction weights = equal);
+// TOL" (all these in the constant basis, with equal shares of a patch's force,
+// Sole/Reduction weights = equal);
 // --area-patches G and --area-auto TOL: graded grids with shares by node area (the scene
 // default), rows "area GxG", "area auto TOL"; --bilinear-patches G: graded grids, shares by
 // node area, Sole/Reduction basis = bilinear (one contact per grid vertex), rows "bilinear GxG".
@@ -612,6 +613,7 @@ int main(int argc, char** argv) {
                        s.sole.mesh_size = h;
                        s.sole_reduction.patches_x = s.sole_reduction.patches_y = n;
                        s.sole_reduction.spacing = coupling::GridSpacing::uniform;
+                       s.sole_reduction.basis = coupling::PatchBasis::constant;
                      }});
       knobs.push_back(v);
     }
@@ -668,12 +670,13 @@ int main(int argc, char** argv) {
                        }});
         for (const double tolerance : tolerances)
           v.push_back({"sole model", prefix + "auto " + fmt(tolerance, "%.3g"),
-                       [tolerance, spacing, area](Scene& s) {
+                       [tolerance, spacing, area, basis](Scene& s) {
                          s.sole_reduction = {};
                          s.sole_reduction.automatic = true;
                          s.sole_reduction.tolerance = tolerance;
                          s.sole_reduction.spacing = spacing;
                          s.sole_reduction.area_weights = area;
+                         s.sole_reduction.basis = basis;
                        }});
       };
       const auto uniform = coupling::GridSpacing::uniform;

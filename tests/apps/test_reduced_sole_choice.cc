@@ -3,7 +3,8 @@
 // in its summary, and falls back to the full sole (reached = false) when no grid does. The
 // numbers against coupling::choose_reduction on the same condensed sole's dense C (the scene
 // builds its reduced sole from the factorization of K, without C), and against the grid sizes
-// of coupling::ReducedSole::grid_patches.
+// of coupling::ReducedSole::grid_shares in the scene's basis (bilinear by default: one contact
+// per grid vertex).
 #include "apps/condensed_sole_foot.h"
 #include "apps/humanoid_simulation.h"
 #include "apps/scene.h"
@@ -37,16 +38,19 @@ TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
   const auto& sole_foot = dynamic_cast<const CondensedSoleFoot&>(reference.foot_model());
   const coupling::CondensedSole& sole = *sole_foot.sole();
   for (const char* tolerance : {"0.5", "0.2", "0.05", "0.01"}) {
-    // The scene's default shares a patch's force by node area (coupling::pressure_weights).
+    // The scene's default shares a patch's force by node area (coupling::pressure_weights),
+    // in the bilinear basis.
     const Scene scene = auto_scene(tolerance);
     ASSERT_TRUE(scene.sole_reduction.area_weights);
+    ASSERT_EQ(scene.sole_reduction.basis, coupling::PatchBasis::bilinear);
     Eigen::VectorXd load(3 * n), areas(n);
     sole.contact_load(Eigen::Vector3d(0, 0, 1), load);
     for (int k = 0; k < n; ++k)
       areas[k] = load[3 * k + 2];
-    const coupling::ReductionChoice expected = coupling::choose_reduction(
-        sole.contact_positions(), sole.compliance(), std::stod(tolerance),
-        scene.sole_reduction.spacing, coupling::pressure_weights(areas));
+    const coupling::ReductionChoice expected =
+        coupling::choose_reduction(sole.contact_positions(), sole.compliance(),
+                                   std::stod(tolerance), scene.sole_reduction.spacing,
+                                   coupling::pressure_weights(areas), scene.sole_reduction.basis);
     HumanoidSimulation simulation(scene);
     simulation.run();
     const HumanoidSummary& s = simulation.summary();
@@ -60,9 +64,11 @@ TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
     // The scene's reduced sole is built from the factorization of K, the expected one from C.
     EXPECT_NEAR(s.sole_reduction_estimate, expected.estimate, 1e-12 * expected.estimate);
     if (expected.reached) {
-      const auto patches = coupling::ReducedSole::grid_patches(
-          sole.contact_positions(), expected.grid, expected.grid, scene.sole_reduction.spacing);
-      EXPECT_EQ(s.n_sole_nodes, *std::max_element(patches.begin(), patches.end()) + 1);
+      const coupling::ReducedSole::ShareMatrix shares = coupling::ReducedSole::grid_shares(
+          sole.contact_positions(), expected.grid, expected.grid, scene.sole_reduction.spacing,
+          scene.sole_reduction.basis, coupling::pressure_weights(areas));
+      EXPECT_EQ(s.n_sole_nodes, shares.cols());
+      EXPECT_EQ(s.n_sole_nodes, (expected.grid + 1) * (expected.grid + 1));
       EXPECT_LE(s.sole_reduction_estimate, std::stod(tolerance));
       EXPECT_GT(s.sole_reduction_estimate, 0.0);
     } else {
@@ -77,8 +83,10 @@ TEST(ReducedSoleChoice, GivenGridReportsItsEstimate) {
   Scene scene = auto_scene("0.2");
   scene.sole_reduction.automatic = false;
   scene.sole_reduction.patches_x = scene.sole_reduction.patches_y = 2;
+  scene.sole_reduction.basis = coupling::PatchBasis::constant;
   HumanoidSimulation simulation(scene);
-  // The 3 cm sole's 2 x 2 estimate with area shares (test reduced_sole: 0.3113).
+  // The 3 cm sole's 2 x 2 estimate with area shares in the constant basis (test reduced_sole:
+  // 0.3113).
   EXPECT_NEAR(simulation.summary().sole_reduction_estimate, 0.3113, 0.001);
   EXPECT_EQ(simulation.summary().sole_reduction_x, 2);
 }
