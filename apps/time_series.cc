@@ -2,8 +2,9 @@
 
 #include "fem/atomic_file.h"
 
-#include <iomanip>
+#include <charconv>
 #include <stdexcept>
+#include <vector>
 
 namespace plantar::app {
 
@@ -30,11 +31,19 @@ void TimeSeries::write_csv(const std::filesystem::path& path) const {
   fem::write_file_atomically(path, [&](std::ostream& out) {
     for (std::size_t i = 0; i < columns_.size(); ++i)
       out << (i ? "," : "") << columns_[i];
-    out << "\n" << std::setprecision(17);
+    out << "\n";
+    // Each row formatted into one buffer: the shortest decimal text that reads back to the same
+    // double (std::to_chars), at most 24 characters a value.
+    std::vector<char> line(25 * static_cast<std::size_t>(values_.cols()) + 1);
     for (int r = 0; r < n_rows_; ++r) {
-      for (int c = 0; c < values_.cols(); ++c)
-        out << (c ? "," : "") << values_(r, c);
-      out << "\n";
+      char* end = line.data();
+      for (int c = 0; c < values_.cols(); ++c) {
+        if (c)
+          *end++ = ',';
+        end = std::to_chars(end, line.data() + line.size(), values_(r, c)).ptr;
+      }
+      *end++ = '\n';
+      out.write(line.data(), end - line.data());
     }
   });
 }

@@ -25,8 +25,8 @@ public:
   /// Column index of @p name; throws std::invalid_argument if absent.
   int column(const std::string& name) const;
   const std::vector<std::string>& columns() const { return columns_; }
-  /// Writes "header\nrow\n..." (17 significant digits) to @p path atomically
-  /// (fem/atomic_file.h).
+  /// Writes "header\nrow\n..." to @p path atomically (fem/atomic_file.h), each value as the
+  /// shortest decimal text that reads back to the same double.
   void write_csv(const std::filesystem::path& path) const;
 
 private:
