@@ -623,13 +623,13 @@ SolverResult StickingSolver::solve(const ContactProblem& problem, const SolverSe
     return result;
 
   // The slip's solve costs O(s^3) (tail solves, Grams, Newton) against O(|L|^2) for the rest:
-  // beyond s = 0.5 |L|^(2/3) sliding contacts the iteration is cheaper (measured on the walk's
-  // 1 cm soles, docs/performance.md).
+  // beyond s = |L|^(2/3) sliding contacts the iteration is cheaper (measured on the walks'
+  // reduced soles, docs/performance.md).
   int n_loaded = 0;
   for (int k = 0; k < n; ++k)
     n_loaded += wanted_[k];
-  const int sliding_cap = std::min(
-      max_sliding_, std::max(8, static_cast<int>(0.5 * std::cbrt(double(n_loaded) * n_loaded))));
+  const int sliding_cap =
+      std::min(max_sliding_, std::max(8, static_cast<int>(std::cbrt(double(n_loaded) * n_loaded))));
   const int rounds = std::max(1, settings.sticking_rounds);
   int n_outside = 0;
   bool solved = false;
