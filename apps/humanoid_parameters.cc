@@ -300,8 +300,9 @@ void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
                     "A^T C A (coupling/reduced_sole.h; 3 solves per patch "
                     "with the kept factorization of K, no dense C; its fields recovered from the "
                     "patch forces for ParaView); 'auto' = the "
-                    "coarsest g x g grid (g = 1, 2, 4, ...) whose reduction error estimate meets "
-                    "Sole/Reduction tolerance, or the full sole with a warning.");
+                    "coarsest g x g grid whose reduction error estimate meets Sole/Reduction "
+                    "tolerance (g = 1, 2, 4, ... bracket it, then bisection), or the full sole "
+                    "with a warning.");
   prm.declare_entry("Reduction spacing", choice_name(spacing_table(), d.spacing),
                     choice_pattern(spacing_table()),
                     "fem sole, Reduced patches: the grid's cells equal (uniform) or graded "

@@ -301,17 +301,44 @@ ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
                                 ", allowed > 0");
   const int n = static_cast<int>(positions.rows());
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
-  for (int g = 1;; g *= 2) {
+  // The grid g's choice if it meets the tolerance (reached = false otherwise or when it has as
+  // many patches as nodes).
+  const auto evaluate = [&](int g) -> ReductionChoice {
     const ReducedSole::ShareMatrix shares =
         ReducedSole::grid_shares(positions, g, g, spacing, basis, weights);
     if (shares.cols() >= n)
-      break; // as many patches as nodes: no reduction left
+      return {g, static_cast<int>(shares.cols()), 0.0, false};
     const ReducedSole reduced = reduce(shares);
     const double estimate = reduction_error_estimate(k_full, reduced, origin);
-    if (estimate <= tolerance)
-      return {g, reduced.n_patches(), estimate, true};
+    return {g, reduced.n_patches(), estimate, estimate <= tolerance};
+  };
+  // A grid is done when it meets the tolerance or has as many patches as nodes (no reduction
+  // left); both hold from some g on when the estimate falls with g. The nested grids g = 1, 2,
+  // 4, ... bracket the first done grid (the last that is not, the first that is), bisection
+  // finds it, and it is the choice if it meets the tolerance with fewer patches than nodes.
+  // Whatever the estimate does, a grid is only chosen when its own estimate meets the tolerance.
+  int missed = 0;
+  int done = 1;
+  ReductionChoice met{0, n, 0.0, false};
+  for (;; done *= 2) {
+    const ReductionChoice c = evaluate(done);
+    if (c.reached)
+      met = c;
+    if (c.reached || c.n_patches >= n)
+      break;
+    missed = done;
   }
-  return {0, n, 0.0, false};
+  while (done - missed > 1) {
+    const int g = (missed + done) / 2;
+    const ReductionChoice c = evaluate(g);
+    if (c.reached)
+      met = c;
+    if (c.reached || c.n_patches >= n)
+      done = g;
+    else
+      missed = g;
+  }
+  return met.reached && met.grid == done ? met : ReductionChoice{0, n, 0.0, false};
 }
 
 } // namespace

@@ -160,12 +160,14 @@ struct ReductionChoice {
 };
 
 /// The cheapest sole whose reduction_error_estimate is at most @p tolerance (> 0): the
-/// coarsest of the nested grids g x g, g = 1, 2, 4, ..., over the nodes' bounding box
-/// (grid_shares in @p spacing and @p basis, node weights @p weights) with fewer patches than
-/// nodes; otherwise the full sole
-/// (reached = false). @p positions (n x 3, m) and @p compliance (3n x 3n, m/N) of the full
-/// condensed sole; the origin is the nodes' centroid. Cost: one dense factorisation of C and
-/// one of each candidate's C_r. Throws std::invalid_argument on tolerance <= 0.
+/// coarsest g x g grid over the nodes' bounding box (grid_shares in @p spacing and @p basis,
+/// node weights @p weights) with fewer patches than nodes; otherwise the full sole (reached =
+/// false). The nested grids g = 1, 2, 4, ... bracket g (the last that misses the tolerance, the
+/// first that meets it), then bisection: the coarsest g when the estimate falls with g, and in
+/// any case a grid whose estimate meets the tolerance. @p positions (n x 3, m) and @p compliance
+/// (3n x 3n, m/N) of the full condensed sole; the origin is the nodes' centroid. Cost: one dense
+/// factorisation of C and one of each candidate's C_r. Throws std::invalid_argument on tolerance <=
+/// 0.
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  const Eigen::MatrixXd& compliance, double tolerance,
                                  GridSpacing spacing = GridSpacing::uniform,

@@ -37,7 +37,7 @@ TEST(ReducedSoleChoice, SceneBuildsTheChosenGridAndReportsItsEstimate) {
   const int n = reference.summary().n_sole_nodes;
   const auto& sole_foot = dynamic_cast<const CondensedSoleFoot&>(reference.foot_model());
   const coupling::CondensedSole& sole = *sole_foot.sole();
-  for (const char* tolerance : {"0.5", "0.2", "0.05", "0.01"}) {
+  for (const char* tolerance : {"0.5", "0.2", "0.05", "0.01", "0.0001"}) {
     // The scene's default shares a patch's force by node area (coupling::pressure_weights),
     // in the bilinear basis.
     const Scene scene = auto_scene(tolerance);

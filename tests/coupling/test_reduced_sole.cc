@@ -173,8 +173,10 @@ TEST(ReducedSole, RigidStiffnessConvergesMonotonically) {
 
 // Sole/Reduced patches = auto: the coarsest grid meeting the tolerance. On the 3 cm sole
 // (63 nodes) the estimates are 1.02 (1x1), 0.28 (2x2), 0.12 (4x4), 0.026 (8x8, 55 patches);
-// 16x16 has one node per patch (no reduction), so a tolerance below 0.026 leaves the full sole
-// (reached = false).
+// 16x16 has one node per patch (no reduction). Between the nested grids the choice is
+// bisected: the grid one coarser than the choice misses the tolerance, every grid from 1 to 8
+// checked by its own estimate. A tolerance below the estimate of every grid with fewer patches
+// than nodes (g up to 32) leaves the full sole (reached = false).
 TEST(ReducedSole, ChoiceMeetsTheToleranceAtTheLeastCost) {
   const CondensedSole sole = make_sole();
   const Eigen::MatrixX3d& x = sole.contact_positions();
@@ -184,9 +186,18 @@ TEST(ReducedSole, ChoiceMeetsTheToleranceAtTheLeastCost) {
     return reduction_error_estimate(
         k_full, ReducedSole(x, sole.compliance(), ReducedSole::grid_patches(x, g, g)), origin);
   };
-  for (const double tolerance : {2.0, 0.5, 0.2, 0.05, 0.01}) {
+  const auto n_patches = [&](int g) {
+    const auto patches = ReducedSole::grid_patches(x, g, g);
+    return *std::max_element(patches.begin(), patches.end()) + 1;
+  };
+  double least = 1e300; // the least estimate of a grid with fewer patches than nodes
+  for (int g = 1; g <= 32; ++g)
+    if (n_patches(g) < sole.n_contacts())
+      least = std::min(least, estimate(g));
+  ASSERT_GT(least, 0.0);
+  for (const double tolerance : {2.0, 0.5, 0.2, 0.05, 0.01, 0.5 * least}) {
     const ReductionChoice choice = choose_reduction(x, sole.compliance(), tolerance);
-    std::printf("tolerance %.2f: grid %d, %d contacts, estimate %.3f, reached %d\n", tolerance,
+    std::printf("tolerance %.3g: grid %d, %d contacts, estimate %.3g, reached %d\n", tolerance,
                 choice.grid, choice.n_patches, choice.estimate, choice.reached);
     if (choice.reached) {
       ASSERT_GE(choice.grid, 1);
@@ -194,21 +205,35 @@ TEST(ReducedSole, ChoiceMeetsTheToleranceAtTheLeastCost) {
       EXPECT_NEAR(choice.estimate, estimate(choice.grid), 1e-12);
       EXPECT_LT(choice.n_patches, sole.n_contacts());
       if (choice.grid > 1) {
-        EXPECT_GT(estimate(choice.grid / 2), tolerance) << "a coarser grid meets it";
+        EXPECT_GT(estimate(choice.grid - 1), tolerance) << "a coarser grid meets it";
       }
     } else {
       EXPECT_EQ(choice.grid, 0);
       EXPECT_EQ(choice.n_patches, sole.n_contacts());
-      EXPECT_GT(estimate(8), tolerance);
-      const auto patches = ReducedSole::grid_patches(x, 16, 16);
-      EXPECT_EQ(*std::max_element(patches.begin(), patches.end()) + 1, sole.n_contacts());
+      for (int g = 1; g <= 32; ++g)
+        if (n_patches(g) < sole.n_contacts()) {
+          EXPECT_GT(estimate(g), tolerance) << "grid " << g << " meets it";
+        }
+      EXPECT_EQ(n_patches(16), sole.n_contacts());
     }
+  }
+  // The estimates of grids 1 to 8, and for tolerances between them, the coarsest grid meeting
+  // each (the estimate falls with g on this sole, asserted here).
+  std::vector<double> estimates;
+  for (int g = 1; g <= 8; ++g) {
+    estimates.push_back(estimate(g));
+    std::printf("grid %d: estimate %.4f\n", g, estimates.back());
+    if (g > 1) {
+      EXPECT_LT(estimates[g - 1], estimates[g - 2]);
+    }
+  }
+  for (int g = 1; g <= 8; ++g) {
+    const double tolerance = 1.01 * estimates[g - 1];
+    EXPECT_EQ(choose_reduction(x, sole.compliance(), tolerance).grid, g) << tolerance;
   }
   EXPECT_EQ(choose_reduction(x, sole.compliance(), 2.0).grid, 1);
   EXPECT_EQ(choose_reduction(x, sole.compliance(), 0.5).grid, 2);
-  EXPECT_EQ(choose_reduction(x, sole.compliance(), 0.2).grid, 4);
-  EXPECT_EQ(choose_reduction(x, sole.compliance(), 0.05).grid, 8);
-  EXPECT_FALSE(choose_reduction(x, sole.compliance(), 0.01).reached);
+  EXPECT_FALSE(choose_reduction(x, sole.compliance(), 0.5 * least).reached);
   EXPECT_THROW(choose_reduction(x, sole.compliance(), 0.0), std::invalid_argument);
 }
 
