@@ -8,11 +8,11 @@
 // --mesh-sizes: the mesh knob's sizes (m; default the scene's x 4/3, 1, 2/3, 1/2); --patches:
 // the sole model knob's grids (default 2, 3, 4, 6, 8); --mesh-patches G: one more knob per G,
 // "mesh reduced GxG", the mesh sizes on a uniform G x G reduced sole in the constant basis
-// (cost against contact nodes, bench/fine_sole/); --auto TOL: sole model rows "auto TOL" (Sole/Reduced patches = auto,
-// Sole/Reduction tolerance = TOL); --graded-patches G and --graded-auto TOL: the same on
-// Chebyshev-graded grids (Sole/Reduction spacing = chebyshev), rows "graded GxG", "graded auto
-// TOL" (all these in the constant basis, with equal shares of a patch's force,
-// Sole/Reduction weights = equal);
+// (cost against contact nodes, bench/fine_sole/); --auto TOL: sole model rows "auto TOL"
+// (Sole/Reduced patches = auto, Sole/Reduction tolerance = TOL); --graded-patches G and
+// --graded-auto TOL: the same on Chebyshev-graded grids (Sole/Reduction spacing = chebyshev), rows
+// "graded GxG", "graded auto TOL" (all these in the constant basis, with equal shares of a patch's
+// force, Sole/Reduction weights = equal);
 // --area-patches G and --area-auto TOL: graded grids with shares by node area (the scene
 // default), rows "area GxG", "area auto TOL"; --bilinear-patches G: graded grids, shares by
 // node area, Sole/Reduction basis = bilinear (one contact per grid vertex), rows "bilinear GxG".
