@@ -317,28 +317,25 @@ ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
   // 4, ... bracket the first done grid (the last that is not, the first that is), bisection
   // finds it, and it is the choice if it meets the tolerance with fewer patches than nodes.
   // Whatever the estimate does, a grid is only chosen when its own estimate meets the tolerance.
-  int missed = 0;
-  int done = 1;
-  ReductionChoice met{0, n, 0.0, false};
-  for (;; done *= 2) {
-    const ReductionChoice c = evaluate(done);
-    if (c.reached)
-      met = c;
-    if (c.reached || c.n_patches >= n)
-      break;
+  const auto is_done = [n](const ReductionChoice& c) { return c.reached || c.n_patches >= n; };
+  int missed = 0, done = 1;
+  ReductionChoice at_done = evaluate(done);
+  while (!is_done(at_done)) {
     missed = done;
+    done *= 2;
+    at_done = evaluate(done);
   }
   while (done - missed > 1) {
     const int g = (missed + done) / 2;
     const ReductionChoice c = evaluate(g);
-    if (c.reached)
-      met = c;
-    if (c.reached || c.n_patches >= n)
+    if (is_done(c)) {
       done = g;
-    else
+      at_done = c;
+    } else {
       missed = g;
+    }
   }
-  return met.reached && met.grid == done ? met : ReductionChoice{0, n, 0.0, false};
+  return at_done.reached ? at_done : ReductionChoice{0, n, 0.0, false};
 }
 
 } // namespace

@@ -48,17 +48,6 @@ CondensedSole make_sole(CondensationParameters::Form form = CondensationParamete
   return CondensedSole(tria, materials, parameters);
 }
 
-/// R (3n x 6): node displacements of the rigid motions about @p origin.
-Eigen::MatrixXd rigid_motions(const Eigen::MatrixX3d& x, const Eigen::Vector3d& origin) {
-  Eigen::MatrixXd r = Eigen::MatrixXd::Zero(3 * x.rows(), 6);
-  for (Eigen::Index k = 0; k < x.rows(); ++k) {
-    const Eigen::Vector3d d = x.row(k).transpose() - origin;
-    r.block<3, 3>(3 * k, 0).setIdentity();
-    r.block<3, 3>(3 * k, 3) << 0, d.z(), -d.y(), -d.z(), 0, d.x(), d.y(), -d.x(), 0;
-  }
-  return r;
-}
-
 /// Consistent areas a_k = int N_k ds of the contact nodes (m^2).
 Eigen::VectorXd node_areas(const CondensedSole& sole) {
   Eigen::VectorXd load(3 * sole.n_contacts()), areas(sole.n_contacts());
@@ -325,12 +314,30 @@ TEST(ReducedSole, FactorizationFormEqualsDenseForm) {
   EXPECT_THROW(bad.validate(), std::invalid_argument);
 }
 
+// coupling::rigid_motion_map: column i < 3 moves every point by e_i, column 3 + i by the rotation
+// e_i x (x_k - x_0).
+TEST(ReducedSole, RigidMotionMapIsTranslationsThenRotations) {
+  Eigen::MatrixX3d x(3, 3);
+  x << 0.1, -0.2, 0.03, -0.05, 0.07, 0.0, 0.2, 0.1, -0.01;
+  const Eigen::Vector3d origin(0.01, 0.02, -0.03);
+  const Eigen::MatrixXd r = rigid_motion_map(x, origin);
+  ASSERT_EQ(r.rows(), 9);
+  ASSERT_EQ(r.cols(), 6);
+  for (Eigen::Index k = 0; k < x.rows(); ++k)
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(i);
+      EXPECT_LT((r.block<3, 1>(3 * k, i) - e).norm(), 1e-15);
+      const Eigen::Vector3d rotated = e.cross(Eigen::Vector3d(x.row(k).transpose() - origin));
+      EXPECT_LT((r.block<3, 1>(3 * k, 3 + i) - rotated).norm(), 1e-15);
+    }
+}
+
 TEST(ReducedSole, RecoveredFieldErrorIsTheStiffnessGap) {
   const CondensedSole full = make_sole();
   const CondensedSole factored = make_sole(CondensationParameters::Form::factorization);
   const Eigen::MatrixX3d& x = full.contact_positions();
   const Eigen::Vector3d origin = x.colwise().mean().transpose();
-  const Eigen::MatrixXd r = rigid_motions(x, origin);
+  const Eigen::MatrixXd r = rigid_motion_map(x, origin);
   const Eigen::Matrix<double, 6, 6>& k_full = full.rigid_motion_stiffness();
   const dealii::SparseMatrix<double>& k = full.elasticity().stiffness_matrix();
   double worst_identity = 0, worst_ratio = 0;
@@ -344,7 +351,7 @@ TEST(ReducedSole, RecoveredFieldErrorIsTheStiffnessGap) {
           basis == 0 ? Eigen::VectorXd() : areas);
       const ReducedSole reduced(factored, shares);
       const Eigen::SparseMatrix<double, Eigen::ColMajor, int> a = ReducedSole::aggregation(shares);
-      const Eigen::MatrixXd r_r = rigid_motions(reduced.patch_positions(), origin);
+      const Eigen::MatrixXd r_r = rigid_motion_map(reduced.patch_positions(), origin);
       const Eigen::LDLT<Eigen::MatrixXd> c_r(reduced.compliance());
       const Eigen::Matrix<double, 6, 6> k_r = r_r.transpose() * c_r.solve(r_r);
       const double estimate = reduction_error_estimate(k_full, reduced, origin);
