@@ -51,20 +51,20 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   sole_ = std::make_unique<coupling::CondensedSole>(tria, materials, condensation);
   const auto& positions = sole_->contact_positions();
   int nx = reduction.patches_x, ny = reduction.patches_y;
-  double estimate = -1;    // computed below for a given grid
   Eigen::VectorXd weights; // empty: equal shares
   if (reduce && reduction.area_weights)
     weights = coupling::pressure_weights(node_areas(0));
   if (reduction.automatic) {
-    const coupling::ReductionChoice choice = coupling::choose_reduction(
-        *sole_, reduction.tolerance, reduction.spacing, weights, reduction.basis);
+    const coupling::ReductionChoice choice =
+        coupling::choose_reduction(*sole_, reduction.tolerance, reduction.spacing, weights,
+                                   reduction.basis, reduction.quantity);
     nx = ny = choice.grid;
-    estimate = choice.estimate;
     reduction_reached_ = choice.reached;
     if (!choice.reached) {
       std::cerr << "warning: Sole/Reduced patches = auto: no grid of fewer patches than the "
                 << positions.rows()
                 << " contact nodes meets Sole/Reduction tolerance = " << reduction.tolerance
+                << " on Sole/Reduction quantity = " << reduction_quantity_name(reduction.quantity)
                 << "; the full condensed sole is used\n";
       // The full sole needs C: condensed again in the dense form (`positions` referred to the
       // replaced sole).
@@ -89,9 +89,9 @@ CondensedSoleFoot::CondensedSoleFoot(const Scene& scene) : thickness_(scene.sole
   reduction_x_ = nx;
   reduction_y_ = ny;
   reduction_estimate_ =
-      estimate >= 0
-          ? estimate
-          : coupling::reduction_error_estimate(sole_->rigid_motion_stiffness(), *reduced_, origin);
+      coupling::reduction_error_estimate(sole_->rigid_motion_stiffness(), *reduced_, origin);
+  pressure_estimate_ =
+      coupling::pressure_error_estimate(sole_->rigid_motion_forces(), *reduced_, origin);
   set_patch(reduced_->patch_positions().transpose(), reduced_->compliance(),
             scene.sole.damping_time);
   if (!scene.output.write_vtu)
@@ -153,6 +153,7 @@ void CondensedSoleFoot::summarize(HumanoidSummary& summary) const {
   summary.sole_reduction_x = reduction_x_;
   summary.sole_reduction_y = reduction_y_;
   summary.sole_reduction_estimate = reduction_estimate_;
+  summary.sole_reduction_pressure_estimate = pressure_estimate_;
   summary.sole_reduction_reached = reduction_reached_;
 }
 

@@ -62,6 +62,7 @@ private:
   mutable Eigen::VectorXd area_;          ///< node_areas, computed at the first call
   int reduction_x_ = 0, reduction_y_ = 0; ///< the reduced sole's grid (0: full)
   double reduction_estimate_ = 0;         ///< coupling::reduction_error_estimate
+  double pressure_estimate_ = 0;          ///< coupling::pressure_error_estimate
   bool reduction_reached_ = true;         ///< auto: a reduced grid met the tolerance
 };
 

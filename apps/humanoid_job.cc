@@ -237,6 +237,7 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "sole_reduction_patches_x," << s.sole_reduction_x << "\n"
         << "sole_reduction_patches_y," << s.sole_reduction_y << "\n"
         << "sole_reduction_estimate," << s.sole_reduction_estimate << "\n"
+        << "sole_reduction_pressure_estimate," << s.sole_reduction_pressure_estimate << "\n"
         << "sole_reduction_reached," << s.sole_reduction_reached << "\n"
         << "n_validity_warnings," << s.validity.n_warnings() << "\n"
         << "max_solver_residual," << s.max_solver_residual << "\n"

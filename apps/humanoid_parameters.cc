@@ -288,7 +288,17 @@ const ChoiceTable<coupling::PatchBasis>& basis_table() {
       {coupling::PatchBasis::constant, "constant"}, {coupling::PatchBasis::bilinear, "bilinear"}};
   return table;
 }
+const ChoiceTable<coupling::ReductionQuantity>& quantity_table() {
+  static const ChoiceTable<coupling::ReductionQuantity> table{
+      {coupling::ReductionQuantity::stiffness, "stiffness"},
+      {coupling::ReductionQuantity::pressure, "pressure"}};
+  return table;
+}
 } // namespace
+
+const char* reduction_quantity_name(coupling::ReductionQuantity quantity) {
+  return choice_name(quantity_table(), quantity);
+}
 
 void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
   const SoleReductionParameters d;
@@ -323,9 +333,17 @@ void SoleReductionParameters::declare(dealii::ParameterHandler& prm) {
                     "coupling/reduced_sole.h.");
   prm.declare_entry("Reduction tolerance", number_text(d.tolerance), Double(0, 1),
                     "fem sole, Reduced patches = auto: the bound on the reduction error estimate "
-                    "||D^-1/2 (K - K_r) D^-1/2||_2 (the relative error of the sole face's "
-                    "stiffness against rigid motions, D = diag K; coupling/reduced_sole.h), "
-                    "(0, 1). The summary reports the estimate of every reduced sole.");
+                    "of Sole/Reduction quantity, (0, 1). The summary reports both estimates of "
+                    "every reduced sole (sole_reduction_estimate, "
+                    "sole_reduction_pressure_estimate).");
+  prm.declare_entry("Reduction quantity", choice_name(quantity_table(), d.quantity),
+                    choice_pattern(quantity_table()),
+                    "fem sole, Reduced patches = auto: what Sole/Reduction tolerance bounds: "
+                    "stiffness = ||D^-1/2 (K - K_r) D^-1/2||_2, the relative error of the sole "
+                    "face's stiffness against rigid motions (D = diag K), hence of its approach "
+                    "and tilt under a given load; pressure = the worst relative L2 error of the "
+                    "nodal normal contact forces of the face pressed flat onto the ground in any "
+                    "approach, pitch and roll (coupling/reduced_sole.h).");
 }
 
 void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
@@ -337,6 +355,8 @@ void SoleReductionParameters::parse(dealii::ParameterHandler& prm) {
   spacing = parse_choice(spacing_table(), prm.get("Reduction spacing"), "Sole/Reduction spacing");
   area_weights = prm.get("Reduction weights") == "area";
   basis = parse_choice(basis_table(), prm.get("Reduction basis"), "Sole/Reduction basis");
+  quantity =
+      parse_choice(quantity_table(), prm.get("Reduction quantity"), "Sole/Reduction quantity");
   automatic = items.size() == 1 && (items[0] == "auto" || items[0] == "Auto");
   require(tolerance > 0 && tolerance < 1, "Sole/Reduction tolerance", tolerance, "(0, 1)");
   if (automatic)

@@ -82,10 +82,15 @@ struct SoleReductionParameters {
   /// vertex (a continuous, cell-wise bilinear pressure; coupling/reduced_sole.h). Bilinear, the
   /// default, needs 2.5 to 6 times fewer contacts for a given estimate (docs/performance.md).
   coupling::PatchBasis basis = coupling::PatchBasis::bilinear;
+  /// Sole/Reduction quantity: what Sole/Reduction tolerance bounds (coupling/reduced_sole.h).
+  coupling::ReductionQuantity quantity = coupling::ReductionQuantity::stiffness;
   bool reduced() const { return patches_x > 0 || automatic; }
   static void declare(dealii::ParameterHandler& prm);
   void parse(dealii::ParameterHandler& prm);
 };
+
+/// The scene-file name of @p quantity (Sole/Reduction quantity).
+const char* reduction_quantity_name(coupling::ReductionQuantity quantity);
 
 /// Entries of subsection "Sole" read by the humanoid scenes only: the validity limits of the
 /// FEM sole (apps/validity_monitor.h, docs/reliability.md). Compressions and strains are

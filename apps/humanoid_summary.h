@@ -20,9 +20,11 @@ struct HumanoidSummary {
   /// 1^T C_zz^-1 1 of its condensed compliance; compliant ankle: its linear spring); 0: rigid.
   double foot_stiffness = 0;
   /// Reduced fem sole: its grid (Sole/Reduced patches, or the one chosen by auto) and its
-  /// reduction error estimate (coupling::reduction_error_estimate); 0 for the full sole.
+  /// reduction error estimates of the face's stiffness (coupling::reduction_error_estimate) and
+  /// of its normal force field (coupling::pressure_error_estimate); 0 for the full sole.
   int sole_reduction_x = 0, sole_reduction_y = 0;
   double sole_reduction_estimate = 0;
+  double sole_reduction_pressure_estimate = 0;
   /// Reduced patches = auto: false when no reduced grid met Sole/Reduction tolerance (the
   /// full sole ran; a warning was printed).
   bool sole_reduction_reached = true;

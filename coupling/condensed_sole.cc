@@ -260,6 +260,7 @@ CondensedSole::CondensedSole(const dealii::Triangulation<3>& triangulation,
     }
     const Eigen::Matrix<double, 6, 6> k_r = r.transpose() * k_c_r;
     rigid_stiffness_ = 0.5 * (k_r + k_r.transpose());
+    rigid_forces_ = std::move(k_c_r);
   }
   if (!dense) { // the factor of K recovers the fields
     impl_->k_nn_factor.reset();

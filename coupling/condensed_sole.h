@@ -145,6 +145,10 @@ public:
   /// (6 x 6; N/m, N/rad, N m/rad): K_R = R^T C^-1 R with R_k = [I_3, -[x_k - x_0]_x],
   /// x_0 = mean of contact_positions(); computed at construction through K_nn (both forms).
   const Eigen::Matrix<double, 6, 6>& rigid_motion_stiffness() const { return rigid_stiffness_; }
+  /// K_c R (3 n_c x 6; N per m, N per rad): the contact forces holding the contact face in each
+  /// rigid motion of rigid_motion_stiffness() (coupling::rigid_motion_forces without C);
+  /// computed at construction (both forms).
+  const Eigen::MatrixXd& rigid_motion_forces() const { return rigid_forces_; }
   /// K_c, (3 n_c x 3 n_c), N/m; empty unless parameters.compute_stiffness.
   const Eigen::MatrixXd& stiffness() const { return stiffness_; }
   /// max |C - C^T| / max |C| of the computed C before symmetrization.
@@ -187,6 +191,7 @@ private:
   Eigen::MatrixX3d contact_positions_;
   Eigen::MatrixXd compliance_, stiffness_;
   Eigen::Matrix<double, 6, 6> rigid_stiffness_ = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::MatrixXd rigid_forces_;
   double raw_asymmetry_ = 0;
   CondensationTimings timings_;
   CondensationMemory memory_;

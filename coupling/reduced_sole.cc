@@ -262,25 +262,38 @@ Eigen::MatrixXd rigid_motion_map(const Eigen::MatrixX3d& positions, const Eigen:
   return r;
 }
 
-Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& positions,
-                                                   const Eigen::MatrixXd& compliance,
-                                                   const Eigen::Vector3d& origin) {
+Eigen::MatrixXd rigid_motion_forces(const Eigen::MatrixX3d& positions,
+                                    const Eigen::MatrixXd& compliance,
+                                    const Eigen::Vector3d& origin) {
   const int n = static_cast<int>(positions.rows());
   if (compliance.rows() != 3 * n || compliance.cols() != 3 * n)
     throw std::invalid_argument(
-        "rigid_motion_stiffness: compliance " + std::to_string(compliance.rows()) + "x" +
+        "rigid_motion_forces: compliance " + std::to_string(compliance.rows()) + "x" +
         std::to_string(compliance.cols()) + ", expected " + std::to_string(3 * n) + " square");
-  const Eigen::MatrixXd r = rigid_motion_map(positions, origin);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(compliance);
-  const Eigen::MatrixXd k = r.transpose() * ldlt.solve(r);
+  return compliance.ldlt().solve(rigid_motion_map(positions, origin));
+}
+
+Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& positions,
+                                                   const Eigen::MatrixXd& compliance,
+                                                   const Eigen::Vector3d& origin) {
+  const Eigen::MatrixXd k = rigid_motion_map(positions, origin).transpose() *
+                            rigid_motion_forces(positions, compliance, origin);
   return 0.5 * (k + k.transpose());
 }
 
-double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
-                                const ReducedSole& reduced, const Eigen::Vector3d& origin) {
-  const Eigen::MatrixXd r = rigid_motion_map(reduced.patch_positions(), origin);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(reduced.compliance());
-  const Eigen::Matrix<double, 6, 6> k_r = r.transpose() * ldlt.solve(r);
+namespace {
+
+/// C_r^-1 R_r (3P x 6): the patch forces of @p reduced holding its face in each rigid motion
+/// about @p origin.
+Eigen::MatrixXd reduced_rigid_forces(const ReducedSole& reduced, const Eigen::Vector3d& origin) {
+  return reduced.compliance().ldlt().solve(rigid_motion_map(reduced.patch_positions(), origin));
+}
+
+/// reduction_error_estimate from the reduced sole's @p patch_forces (reduced_rigid_forces).
+double stiffness_estimate(const Eigen::Matrix<double, 6, 6>& k_full, const ReducedSole& reduced,
+                          const Eigen::MatrixXd& patch_forces, const Eigen::Vector3d& origin) {
+  const Eigen::Matrix<double, 6, 6> k_r =
+      rigid_motion_map(reduced.patch_positions(), origin).transpose() * patch_forces;
   const Eigen::Matrix<double, 6, 1> scale = k_full.diagonal().cwiseSqrt().cwiseInverse();
   const Eigen::Matrix<double, 6, 6> gap = scale.asDiagonal() * (k_full - k_r) * scale.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(
@@ -288,14 +301,53 @@ double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
   return eigen.eigenvalues().cwiseAbs().maxCoeff();
 }
 
+/// pressure_error_estimate from the reduced sole's @p patch_forces (reduced_rigid_forces).
+double pressure_estimate(const Eigen::MatrixXd& forces_full, const ReducedSole& reduced,
+                         const Eigen::MatrixXd& patch_forces) {
+  const int n = reduced.n_nodes();
+  if (forces_full.rows() != 3 * n || forces_full.cols() != 6)
+    throw std::invalid_argument(
+        "pressure_error_estimate: forces " + std::to_string(forces_full.rows()) + "x" +
+        std::to_string(forces_full.cols()) + ", expected " + std::to_string(3 * n) + "x6");
+  // The normal rows of A C_r^-1 R_r = (S (x) I_3) C_r^-1 R_r: S times the patches' z rows.
+  constexpr int motions[3] = {2, 3, 4}; // z translation, rotations about x and y
+  Eigen::MatrixXd patch_normal(reduced.n_patches(), 3), full_normal(n, 3);
+  for (int m = 0; m < 3; ++m) {
+    for (int j = 0; j < reduced.n_patches(); ++j)
+      patch_normal(j, m) = patch_forces(3 * j + 2, motions[m]);
+    for (int k = 0; k < n; ++k)
+      full_normal(k, m) = forces_full(3 * k + 2, motions[m]);
+  }
+  const Eigen::MatrixXd difference = reduced.shares() * patch_normal - full_normal;
+  const Eigen::Matrix3d g = full_normal.transpose() * full_normal;
+  const Eigen::Matrix3d h = difference.transpose() * difference;
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix3d> eigen(h, g,
+                                                                        Eigen::EigenvaluesOnly);
+  return std::sqrt(std::max(0.0, eigen.eigenvalues().maxCoeff()));
+}
+
+} // namespace
+
+double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
+                                const ReducedSole& reduced, const Eigen::Vector3d& origin) {
+  return stiffness_estimate(k_full, reduced, reduced_rigid_forces(reduced, origin), origin);
+}
+
+double pressure_error_estimate(const Eigen::MatrixXd& forces_full, const ReducedSole& reduced,
+                               const Eigen::Vector3d& origin) {
+  return pressure_estimate(forces_full, reduced, reduced_rigid_forces(reduced, origin));
+}
+
 namespace {
 
-/// The loop of choose_reduction: @p reduce builds the reduced sole of a patch assignment.
+/// The loop of choose_reduction: @p reduce builds the reduced sole of a patch assignment;
+/// @p k_full and @p forces_full the full sole's rigid-motion stiffness and forces.
 template <class Reduce>
 ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
-                            const Eigen::Matrix<double, 6, 6>& k_full, double tolerance,
+                            const Eigen::Matrix<double, 6, 6>& k_full,
+                            const Eigen::MatrixXd& forces_full, double tolerance,
                             GridSpacing spacing, PatchBasis basis, const Eigen::VectorXd& weights,
-                            const Reduce& reduce) {
+                            ReductionQuantity quantity, const Reduce& reduce) {
   if (!(tolerance > 0))
     throw std::invalid_argument("choose_reduction: tolerance " + std::to_string(tolerance) +
                                 ", allowed > 0");
@@ -307,10 +359,14 @@ ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
     const ReducedSole::ShareMatrix shares =
         ReducedSole::grid_shares(positions, g, g, spacing, basis, weights);
     if (shares.cols() >= n)
-      return {g, static_cast<int>(shares.cols()), 0.0, false};
+      return {g, static_cast<int>(shares.cols()), 0.0, 0.0, false};
     const ReducedSole reduced = reduce(shares);
-    const double estimate = reduction_error_estimate(k_full, reduced, origin);
-    return {g, reduced.n_patches(), estimate, estimate <= tolerance};
+    const Eigen::MatrixXd patch_forces = reduced_rigid_forces(reduced, origin);
+    ReductionChoice c{g, reduced.n_patches(),
+                      stiffness_estimate(k_full, reduced, patch_forces, origin),
+                      pressure_estimate(forces_full, reduced, patch_forces), false};
+    c.reached = c.estimate_of(quantity) <= tolerance;
+    return c;
   };
   // A grid is done when it meets the tolerance or has as many patches as nodes (no reduction
   // left); both hold from some g on when the estimate falls with g. The nested grids g = 1, 2,
@@ -335,7 +391,7 @@ ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
       missed = g;
     }
   }
-  return at_done.reached ? at_done : ReductionChoice{0, n, 0.0, false};
+  return at_done.reached ? at_done : ReductionChoice{0, n, 0.0, 0.0, false};
 }
 
 } // namespace
@@ -343,19 +399,23 @@ ReductionChoice choose_grid(const Eigen::MatrixX3d& positions,
 ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  const Eigen::MatrixXd& compliance, double tolerance,
                                  GridSpacing spacing, const Eigen::VectorXd& weights,
-                                 PatchBasis basis) {
+                                 PatchBasis basis, ReductionQuantity quantity) {
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
-  const Eigen::Matrix<double, 6, 6> k_full = rigid_motion_stiffness(positions, compliance, origin);
-  return choose_grid(positions, k_full, tolerance, spacing, basis, weights,
+  const Eigen::MatrixXd forces = rigid_motion_forces(positions, compliance, origin);
+  const Eigen::MatrixXd k = rigid_motion_map(positions, origin).transpose() * forces;
+  const Eigen::Matrix<double, 6, 6> k_full = 0.5 * (k + k.transpose());
+  return choose_grid(positions, k_full, forces, tolerance, spacing, basis, weights, quantity,
                      [&](const ReducedSole::ShareMatrix& shares) {
                        return ReducedSole(positions, compliance, shares);
                      });
 }
 
 ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance, GridSpacing spacing,
-                                 const Eigen::VectorXd& weights, PatchBasis basis) {
+                                 const Eigen::VectorXd& weights, PatchBasis basis,
+                                 ReductionQuantity quantity) {
   return choose_grid(
-      sole.contact_positions(), sole.rigid_motion_stiffness(), tolerance, spacing, basis, weights,
+      sole.contact_positions(), sole.rigid_motion_stiffness(), sole.rigid_motion_forces(),
+      tolerance, spacing, basis, weights, quantity,
       [&](const ReducedSole::ShareMatrix& shares) { return ReducedSole(sole, shares); });
 }
 

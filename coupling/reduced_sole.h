@@ -130,6 +130,14 @@ private:
 /// rotation about x, y, z).
 Eigen::MatrixXd rigid_motion_map(const Eigen::MatrixX3d& positions, const Eigen::Vector3d& origin);
 
+/// F = C^-1 R (3n x 6; N per m, N per rad): the contact forces that hold the contact face of
+/// the sole of @p compliance (3n x 3n, m/N) at @p positions (n x 3, m) in each rigid motion of
+/// rigid_motion_map about @p origin (m): the bonded face's response. Dense route (one LDLT of
+/// C); CondensedSole::rigid_motion_forces gives the same through K_nn. Allocates.
+Eigen::MatrixXd rigid_motion_forces(const Eigen::MatrixX3d& positions,
+                                    const Eigen::MatrixXd& compliance,
+                                    const Eigen::Vector3d& origin);
+
 /// Stiffness of the contact face against rigid motions (6 x 6): K = R^T C^-1 R with
 /// R = rigid_motion_map (translation then rotation, rad), @p positions
 /// (n x 3, m), @p compliance (3n x 3n, m/N), @p origin x_0 (m). Units: N/m, N/rad, N m/rad.
@@ -151,15 +159,44 @@ Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& posit
 double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
                                 const ReducedSole& reduced, const Eigen::Vector3d& origin);
 
-/// The grid chosen by choose_reduction().
-struct ReductionChoice {
-  int grid = 0;        ///< g of the g x g grid; 0: the full sole
-  int n_patches = 0;   ///< contacts of the chosen sole (the nodes for the full sole)
-  double estimate = 0; ///< reduction_error_estimate of the choice (0 for the full sole)
-  bool reached = true; ///< false: no reduced grid met the tolerance, the full sole is chosen
+/// The pressure error estimate of a reduced sole: the worst relative error of the contact
+/// face's normal nodal forces (sole frame z) over the rigid motions that press the bonded face,
+/// a in span(z translation, rotations about x and y through @p origin):
+///
+///   e_p = max_a || N (A C_r^-1 R_r - F) a ||_2 / || N F a ||_2 = sqrt(lambda_max(H, G)),
+///
+/// F = C^-1 R the full sole's rigid_motion_forces (@p forces_full, 3n x 6), A the reduced sole's
+/// aggregation, R_r = A^T R the rigid motions at its patch centres, N the rows of the normal
+/// components; G = (N F)^T (N F) and H the same of the difference, restricted to the three
+/// motions (a 3 x 3 generalized eigenproblem). It is the relative L2 error of the nodal normal
+/// force field (work_precision's e_field) of a sole fully in sticking contact with a flat
+/// ground, the foot in any pitch, roll and approach. 0 with one node per patch; not monotone
+/// under refinement in general. Allocates.
+double pressure_error_estimate(const Eigen::MatrixXd& forces_full, const ReducedSole& reduced,
+                               const Eigen::Vector3d& origin);
+
+/// What choose_reduction's tolerance bounds (Sole/Reduction quantity).
+enum class ReductionQuantity {
+  stiffness, ///< reduction_error_estimate: the face's rigid-motion stiffness, hence its
+             ///< approach and tilt under a given wrench
+  pressure   ///< pressure_error_estimate: the normal nodal force field of the bonded face
 };
 
-/// The cheapest sole whose reduction_error_estimate is at most @p tolerance (> 0): the
+/// The grid chosen by choose_reduction().
+struct ReductionChoice {
+  int grid = 0;                 ///< g of the g x g grid; 0: the full sole
+  int n_patches = 0;            ///< contacts of the chosen sole (the nodes for the full sole)
+  double estimate = 0;          ///< reduction_error_estimate of the choice (0 for the full sole)
+  double pressure_estimate = 0; ///< pressure_error_estimate of the choice (0 for the full sole)
+  bool reached = true; ///< false: no reduced grid met the tolerance, the full sole is chosen
+  /// The estimate of @p quantity.
+  double estimate_of(ReductionQuantity quantity) const {
+    return quantity == ReductionQuantity::pressure ? pressure_estimate : estimate;
+  }
+};
+
+/// The cheapest sole whose estimate of @p quantity (reduction_error_estimate or
+/// pressure_error_estimate) is at most @p tolerance (> 0): the
 /// coarsest g x g grid over the nodes' bounding box (grid_shares in @p spacing and @p basis,
 /// node weights @p weights) with fewer patches than nodes; otherwise the full sole (reached =
 /// false). The nested grids g = 1, 2, 4, ... bracket g (the last that misses the tolerance, the
@@ -172,13 +209,15 @@ ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  const Eigen::MatrixXd& compliance, double tolerance,
                                  GridSpacing spacing = GridSpacing::uniform,
                                  const Eigen::VectorXd& weights = {},
-                                 PatchBasis basis = PatchBasis::constant);
-/// The same from @p sole (either form): its rigid_motion_stiffness() and each candidate's
-/// projected_compliance (3P solves with Form::factorization, no dense C).
+                                 PatchBasis basis = PatchBasis::constant,
+                                 ReductionQuantity quantity = ReductionQuantity::stiffness);
+/// The same from @p sole (either form): its rigid_motion_stiffness(), rigid_motion_forces() and
+/// each candidate's projected_compliance (3P solves with Form::factorization, no dense C).
 ReductionChoice choose_reduction(const CondensedSole& sole, double tolerance,
                                  GridSpacing spacing = GridSpacing::uniform,
                                  const Eigen::VectorXd& weights = {},
-                                 PatchBasis basis = PatchBasis::constant);
+                                 PatchBasis basis = PatchBasis::constant,
+                                 ReductionQuantity quantity = ReductionQuantity::stiffness);
 
 /// Node weights for a uniform patch pressure from the nodes' consistent areas @p areas (n, m^2):
 /// w_k = max(a_k, 1e-3 mean(a)) (a P2 face's vertex nodes carry no area; the floor keeps every

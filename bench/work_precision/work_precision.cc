@@ -15,7 +15,10 @@
 // force, Sole/Reduction weights = equal);
 // --area-patches G and --area-auto TOL: graded grids with shares by node area (the scene
 // default), rows "area GxG", "area auto TOL"; --bilinear-patches G: graded grids, shares by
-// node area, Sole/Reduction basis = bilinear (one contact per grid vertex), rows "bilinear GxG".
+// node area, Sole/Reduction basis = bilinear (one contact per grid vertex), rows "bilinear GxG";
+// --bilinear-auto TOL and --pressure-auto TOL: auto on those grids, the tolerance on the stiffness
+// estimate or on the pressure estimate (Sole/Reduction quantity = pressure), rows "bilinear auto
+// TOL", "pressure auto TOL" (the CSV gives both estimates of every reduced row).
 // For each scene (run with Robot/Foot form = fem sole; durations: drop 0.5 s, walk the whole scene
 // unless given), one knob at a time is varied from the scene's own setting, the others kept: sole
 // mesh size, element degree, time step, the time step with the theta = 1/2 stepper on a
@@ -116,6 +119,7 @@ struct Result {
   std::array<std::vector<Eigen::Vector2d>, 2> cop;          // per frame, world x-y, m
   double kept_bytes = 0;                                    // the feet's compliance operators
   double reduction_estimate = 0; // coupling::reduction_error_estimate (0: full)
+  double pressure_estimate = 0;  // coupling::pressure_error_estimate (0: full)
   double e_af = NAN, e_j = NAN, e_f = NAN, e_cop = NAN, e_pf = NAN, e_pf_median = NAN;
 };
 
@@ -239,6 +243,7 @@ void run_one(const Scene& scene, Result& result, int repeat, double frame_every)
         if (foot->reduced())
           result.shares = foot->reduced()->shares();
       result.reduction_estimate = summary.sole_reduction_estimate;
+      result.pressure_estimate = summary.sole_reduction_pressure_estimate;
       if (fem) {
         const auto& sole = dynamic_cast<const SolePatchFoot&>(simulation.foot_model());
         result.nodes = sole.contact_points();
@@ -475,6 +480,8 @@ int main(int argc, char** argv) {
   std::vector<double> area_patches;    // --area-patches: Chebyshev grids, shares by node area
   std::vector<double> area_auto;       // --area-auto: auto rows of the same
   std::vector<double> bilinear_patches; // --bilinear-patches: graded grids, bilinear basis
+  std::vector<double> bilinear_auto;    // --bilinear-auto: auto rows of the same
+  std::vector<double> pressure_auto;    // --pressure-auto: the same on the pressure estimate
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--out" && i + 1 < argc)
@@ -511,6 +518,10 @@ int main(int argc, char** argv) {
       area_auto = number_list(argv[++i]);
     else if (a == "--bilinear-patches" && i + 1 < argc)
       bilinear_patches = number_list(argv[++i]);
+    else if (a == "--bilinear-auto" && i + 1 < argc)
+      bilinear_auto = number_list(argv[++i]);
+    else if (a == "--pressure-auto" && i + 1 < argc)
+      pressure_auto = number_list(argv[++i]);
     else if (a == "--only" && i + 1 < argc) {
       std::string list = argv[++i];
       for (std::size_t start = 0; start <= list.size();) {
@@ -526,7 +537,8 @@ int main(int argc, char** argv) {
                    "[--no-hyperelastic] [--only KNOB,...] [--mesh-sizes H,...] [--patches G,...] "
                    "[--mesh-patches G,...] [--auto TOL,...] [--graded-patches G,...] "
                    "[--graded-auto TOL,...] [--area-patches G,...] [--area-auto TOL,...] "
-                   "[--frame-every S]\n";
+                   "[--bilinear-patches G,...] [--bilinear-auto TOL,...] "
+                   "[--pressure-auto TOL,...] [--frame-every S]\n";
       return 1;
     }
   }
@@ -552,7 +564,7 @@ int main(int argc, char** argv) {
              "refused_cone_fraction,refused_residual_fraction,sweeps_after_refusal,"
              "local_solves_per_sweep,sole_dissipated_J,peak_az_filtered,e_af,e_landing_impulse,"
              "e_landing_peak_force,e_cop_m,e_field_max,e_field_median,kept_MB,n_landings,"
-             "reduction_estimate\n";
+             "reduction_estimate,pressure_estimate\n";
       for (const auto& r : results) {
         const double sim = std::max(r.simulated, 1e-12);
         const auto& p = r.profile;
@@ -570,7 +582,8 @@ int main(int argc, char** argv) {
             << r.sweeps_after_refusal << "," << r.local_solves_per_sweep << "," << r.dissipated
             << "," << r.peak_af << "," << r.e_af << "," << r.e_j << "," << r.e_f << "," << r.e_cop
             << "," << r.e_pf << "," << r.e_pf_median << "," << r.kept_bytes / 1048576.0 << ","
-            << r.landings[0].size() + r.landings[1].size() << "," << r.reduction_estimate << "\n";
+            << r.landings[0].size() + r.landings[1].size() << "," << r.reduction_estimate << ","
+            << r.pressure_estimate << "\n";
       }
     }
     std::filesystem::rename(tmp, path);
@@ -658,7 +671,9 @@ int main(int argc, char** argv) {
       const auto add_reduced = [&v](const std::string& prefix, coupling::GridSpacing spacing,
                                     bool area, const std::vector<double>& grids,
                                     const std::vector<double>& tolerances,
-                                    coupling::PatchBasis basis = coupling::PatchBasis::constant) {
+                                    coupling::PatchBasis basis = coupling::PatchBasis::constant,
+                                    coupling::ReductionQuantity quantity =
+                                        coupling::ReductionQuantity::stiffness) {
         for (const double p : grids)
           v.push_back({"sole model", prefix + std::to_string(int(p)) + "x" + std::to_string(int(p)),
                        [g = int(p), spacing, area, basis](Scene& s) {
@@ -670,13 +685,14 @@ int main(int argc, char** argv) {
                        }});
         for (const double tolerance : tolerances)
           v.push_back({"sole model", prefix + "auto " + fmt(tolerance, "%.3g"),
-                       [tolerance, spacing, area, basis](Scene& s) {
+                       [tolerance, spacing, area, basis, quantity](Scene& s) {
                          s.sole_reduction = {};
                          s.sole_reduction.automatic = true;
                          s.sole_reduction.tolerance = tolerance;
                          s.sole_reduction.spacing = spacing;
                          s.sole_reduction.area_weights = area;
                          s.sole_reduction.basis = basis;
+                         s.sole_reduction.quantity = quantity;
                        }});
       };
       const auto uniform = coupling::GridSpacing::uniform;
@@ -685,7 +701,10 @@ int main(int argc, char** argv) {
       add_reduced("", uniform, false, {}, auto_tolerances);
       add_reduced("graded ", graded, false, graded_patches, graded_auto);
       add_reduced("area ", graded, true, area_patches, area_auto);
-      add_reduced("bilinear ", graded, true, bilinear_patches, {}, coupling::PatchBasis::bilinear);
+      add_reduced("bilinear ", graded, true, bilinear_patches, bilinear_auto,
+                  coupling::PatchBasis::bilinear);
+      add_reduced("pressure ", graded, true, {}, pressure_auto, coupling::PatchBasis::bilinear,
+                  coupling::ReductionQuantity::pressure);
       v.push_back({"sole model", "full", [](Scene& s) { s.sole_reduction = {}; }});
       knobs.push_back(v);
     }

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -142,6 +143,79 @@ TEST(ReducedSoleChoice, BilinearBasisScene) {
   EXPECT_EQ(chosen.summary().sole_reduction_x, choice.grid);
   EXPECT_EQ(chosen.summary().n_sole_nodes, choice.n_patches);
   EXPECT_NEAR(chosen.summary().sole_reduction_estimate, choice.estimate, 1e-10 * choice.estimate);
+}
+
+/// The feet's nodal normal contact forces (N, per node of the full sole) at the end of
+/// @p simulation's run: a reduced sole's patch forces shared by its nodes (S F).
+std::array<Eigen::VectorXd, 2> nodal_normal_forces(const HumanoidSimulation& simulation) {
+  const auto& foot = dynamic_cast<const CondensedSoleFoot&>(simulation.foot_model());
+  std::array<Eigen::VectorXd, 2> forces;
+  for (int side = 0; side < 2; ++side) {
+    const Eigen::VectorXd& f = foot.pad(side).force(); // (n, t1, t2) per contact
+    const Eigen::VectorXd normal =
+        Eigen::Map<const Eigen::VectorXd, 0, Eigen::InnerStride<3>>(f.data(), f.size() / 3);
+    forces[side] = foot.reduced() ? Eigen::VectorXd(foot.reduced()->shares() * normal) : normal;
+  }
+  return forces;
+}
+
+// Sole/Reduction quantity = pressure: auto picks the coarsest grid whose pressure estimate meets
+// the tolerance, the summary reports both estimates, and the estimate predicts the field: the
+// robot standing still (both soles flat on the ground, nearly a bonded face in a rigid motion)
+// has, after 0.3 s, a relative L2 error of the nodal normal force field against the full sole
+// within the estimate (plus the stiffness estimate: the two models carry the same weight at
+// slightly different approaches and tilts).
+TEST(ReducedSoleChoice, PressureToleranceBoundsTheStandingField) {
+  const auto stand = [](const std::vector<std::pair<std::string, std::string>>& entries) {
+    std::vector<std::pair<std::string, std::string>> all{{"Robot/Foot form", "fem sole"},
+                                                         {"Simulation/Duration", "0.3"}};
+    all.insert(all.end(), entries.begin(), entries.end());
+    return testing::load_humanoid_scene("stand", all);
+  };
+  HumanoidSimulation full(stand({}));
+  full.run();
+  const auto reference = nodal_normal_forces(full);
+  const coupling::CondensedSole& sole =
+      *dynamic_cast<const CondensedSoleFoot&>(full.foot_model()).sole();
+  const int n = sole.n_contacts();
+  Eigen::VectorXd load(3 * n), areas(n);
+  sole.contact_load(Eigen::Vector3d(0, 0, 1), load);
+  for (int k = 0; k < n; ++k)
+    areas[k] = load[3 * k + 2];
+  const Eigen::VectorXd weights = coupling::pressure_weights(areas);
+  int last_grid = 0;
+  for (const char* tolerance : {"0.3", "0.15", "0.08"}) {
+    const Scene scene = stand({{"Sole/Reduced patches", "auto"},
+                               {"Sole/Reduction quantity", "pressure"},
+                               {"Sole/Reduction tolerance", tolerance}});
+    ASSERT_EQ(scene.sole_reduction.quantity, coupling::ReductionQuantity::pressure);
+    const coupling::ReductionChoice expected = coupling::choose_reduction(
+        sole.contact_positions(), sole.compliance(), std::stod(tolerance),
+        scene.sole_reduction.spacing, weights, scene.sole_reduction.basis,
+        coupling::ReductionQuantity::pressure);
+    ASSERT_TRUE(expected.reached) << tolerance;
+    HumanoidSimulation reduced(scene);
+    reduced.run();
+    const HumanoidSummary& s = reduced.summary();
+    EXPECT_EQ(s.sole_reduction_x, expected.grid);
+    EXPECT_NEAR(s.sole_reduction_pressure_estimate, expected.pressure_estimate,
+                1e-10 * expected.pressure_estimate);
+    EXPECT_NEAR(s.sole_reduction_estimate, expected.estimate, 1e-10 * expected.estimate);
+    EXPECT_LE(s.sole_reduction_pressure_estimate, std::stod(tolerance));
+    EXPECT_GE(s.sole_reduction_x, last_grid);
+    last_grid = s.sole_reduction_x;
+    const auto forces = nodal_normal_forces(reduced);
+    for (int side = 0; side < 2; ++side) {
+      const double error = (forces[side] - reference[side]).norm() / reference[side].norm();
+      std::printf("pressure tolerance %s: grid %d x %d (%d contacts per foot), pressure "
+                  "estimate %.4f, stiffness estimate %.4f; standing foot %d: field error %.4f "
+                  "(%.0f N)\n",
+                  tolerance, s.sole_reduction_x, s.sole_reduction_y, s.n_sole_nodes,
+                  s.sole_reduction_pressure_estimate, s.sole_reduction_estimate, side, error,
+                  reference[side].sum());
+      EXPECT_LE(error, s.sole_reduction_pressure_estimate + s.sole_reduction_estimate);
+    }
+  }
 }
 
 TEST(ReducedSoleChoice, BadEntriesAreNamed) {
