@@ -71,8 +71,13 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
   out << "foot form: " << to_string(scene.robot.foot_form);
   if (s.n_sole_nodes)
     out << " (" << s.n_sole_nodes << " contact nodes per sole)";
-  out << "\n"
-      << "steps: " << s.n_steps << " of dt = " << s.time_step << " s, simulated "
+  out << "\n";
+  if (s.sole_reduction_x > 0)
+    out << "reduced sole: " << s.sole_reduction_x << " x " << s.sole_reduction_y
+        << " grid, reduction error estimates: stiffness " << s.sole_reduction_estimate
+        << ", pressure " << s.sole_reduction_pressure_estimate
+        << " (relative; Sole/Reduction quantity)\n";
+  out << "steps: " << s.n_steps << " of dt = " << s.time_step << " s, simulated "
       << s.simulated_time << " s\n"
       << "max |waist z acceleration|: " << s.max_waist_acceleration_z
       << " m/s^2 (backward difference of the step velocities), "
