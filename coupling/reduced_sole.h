@@ -165,7 +165,8 @@ double reduction_error_estimate(const Eigen::Matrix<double, 6, 6>& k_full,
 ///
 ///   e_p = max_a || N (A C_r^-1 R_r - F) a ||_2 / || N F a ||_2 = sqrt(lambda_max(H, G)),
 ///
-/// F = C^-1 R the full sole's rigid_motion_forces (@p forces_full, 3n x 6), A the reduced sole's
+/// F = C^-1 R the full sole's rigid_motion_forces about the same @p origin (@p forces_full,
+/// 3n x 6; CondensedSole's are about the nodes' centroid), A the reduced sole's
 /// aggregation, R_r = A^T R the rigid motions at its patch centres, N the rows of the normal
 /// components; G = (N F)^T (N F) and H the same of the difference, restricted to the three
 /// motions (a 3 x 3 generalized eigenproblem). It is the relative L2 error of the nodal normal
