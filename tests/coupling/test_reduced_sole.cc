@@ -18,8 +18,8 @@
 //    reaches a smaller estimate than the constant basis with fewer patches;
 //  * the pressure estimate is the worst relative error of the bonded face's normal nodal
 //    forces over its approaches, pitches and rolls: no sampled motion exceeds it, the worst of
-//    20,000 motions reaches it, both forms agree, and auto on the pressure meets its tolerance
-//    at the coarsest grid.
+//    20,000 motions reaches it, both forms agree (P1 and P2), and auto on the pressure meets
+//    its tolerance at the coarsest grid.
 
 #include "condensation_test_utilities.h"
 #include "coupling/reduced_sole.h"
@@ -591,106 +591,110 @@ TEST(ReducedSole, BilinearBasisRepresentsContinuousPressures) {
 // the relative norm of the normal rows' difference over motions a in span(z, rotations x, y),
 // sampled on the sphere.
 TEST(ReducedSole, PressureEstimateIsTheWorstBondedFaceError) {
-  const CondensedSole sole = make_sole();
-  const CondensedSole factored = make_sole(CondensationParameters::Form::factorization);
-  const Eigen::MatrixX3d& x = sole.contact_positions();
-  const Eigen::MatrixXd& c = sole.compliance();
-  const int n = sole.n_contacts();
-  const Eigen::Vector3d origin = x.colwise().mean().transpose();
-  const Eigen::MatrixXd r = rigid_motion_map(x, origin);
-  const Eigen::MatrixXd k_c = c.llt().solve(Eigen::MatrixXd::Identity(3 * n, 3 * n));
-  const Eigen::MatrixXd f_full = k_c * r;
-  // K_c R: the K_nn route of both forms and the dense one.
-  EXPECT_LT(relative_difference(sole.rigid_motion_forces(), f_full), 1e-9);
-  EXPECT_LT(relative_difference(factored.rigid_motion_forces(), f_full), 1e-9);
-  EXPECT_LT(relative_difference(rigid_motion_forces(x, c, origin), f_full), 1e-9);
-  // Motions on the unit sphere of (z, theta_x L, theta_y L), L the sole's half length: a
-  // Fibonacci lattice of 20,000 points (the ratio is even in a).
-  const double half_length = 0.5 * (x.col(0).maxCoeff() - x.col(0).minCoeff());
-  std::vector<Eigen::Matrix<double, 6, 1>> motions;
-  for (int i = 0; i < 20000; ++i) {
-    const double zc = 1 - (i + 0.5) / 10000.0, rho = std::sqrt(std::max(0.0, 1 - zc * zc));
-    const double phi = i * M_PI * (3 - std::sqrt(5.0));
-    Eigen::Matrix<double, 6, 1> a = Eigen::Matrix<double, 6, 1>::Zero();
-    a[2] = zc;
-    a[3] = rho * std::cos(phi) / half_length;
-    a[4] = rho * std::sin(phi) / half_length;
-    motions.push_back(a);
-  }
-  const Eigen::VectorXd weights = pressure_weights(node_areas(sole));
-  struct Case {
-    int g;
-    PatchBasis basis;
-  };
-  for (const Case& k :
-       {Case{1, PatchBasis::bilinear}, Case{2, PatchBasis::bilinear}, Case{4, PatchBasis::bilinear},
-        Case{4, PatchBasis::constant}, Case{6, PatchBasis::constant}}) {
-    const ReducedSole::ShareMatrix shares =
-        ReducedSole::grid_shares(x, k.g, k.g, GridSpacing::chebyshev, k.basis, weights);
-    const ReducedSole reduced(x, c, shares);
-    const double estimate = pressure_error_estimate(f_full, reduced, origin);
-    const Eigen::MatrixXd a(ReducedSole::aggregation(shares));
-    const Eigen::MatrixXd c_r = a.transpose() * c * a;
-    const Eigen::MatrixXd f_r = a * c_r.fullPivLu().solve(a.transpose() * r);
-    double worst = 0;
-    for (const auto& m : motions) {
-      const Eigen::VectorXd full = f_full * m, red = f_r * m;
-      double num = 0, den = 0;
-      for (int i = 0; i < n; ++i) {
-        num += (red[3 * i + 2] - full[3 * i + 2]) * (red[3 * i + 2] - full[3 * i + 2]);
-        den += full[3 * i + 2] * full[3 * i + 2];
-      }
-      worst = std::max(worst, std::sqrt(num / den));
+  for (const unsigned int degree : {2u, 1u}) {
+    const CondensedSole sole = make_sole(CondensationParameters::Form::dense, degree);
+    const CondensedSole factored = make_sole(CondensationParameters::Form::factorization, degree);
+    const Eigen::MatrixX3d& x = sole.contact_positions();
+    const Eigen::MatrixXd& c = sole.compliance();
+    const int n = sole.n_contacts();
+    const Eigen::Vector3d origin = x.colwise().mean().transpose();
+    const Eigen::MatrixXd r = rigid_motion_map(x, origin);
+    const Eigen::MatrixXd k_c = c.llt().solve(Eigen::MatrixXd::Identity(3 * n, 3 * n));
+    const Eigen::MatrixXd f_full = k_c * r;
+    // K_c R: the K_nn route of both forms and the dense one.
+    EXPECT_LT(relative_difference(sole.rigid_motion_forces(), f_full), 1e-9);
+    EXPECT_LT(relative_difference(factored.rigid_motion_forces(), f_full), 1e-9);
+    EXPECT_LT(relative_difference(rigid_motion_forces(x, c, origin), f_full), 1e-9);
+    // Motions on the unit sphere of (z, theta_x L, theta_y L), L the sole's half length: a
+    // Fibonacci lattice of 20,000 points (the ratio is even in a).
+    const double half_length = 0.5 * (x.col(0).maxCoeff() - x.col(0).minCoeff());
+    std::vector<Eigen::Matrix<double, 6, 1>> motions;
+    for (int i = 0; i < 20000; ++i) {
+      const double zc = 1 - (i + 0.5) / 10000.0, rho = std::sqrt(std::max(0.0, 1 - zc * zc));
+      const double phi = i * M_PI * (3 - std::sqrt(5.0));
+      Eigen::Matrix<double, 6, 1> a = Eigen::Matrix<double, 6, 1>::Zero();
+      a[2] = zc;
+      a[3] = rho * std::cos(phi) / half_length;
+      a[4] = rho * std::sin(phi) / half_length;
+      motions.push_back(a);
     }
-    const double from_k = pressure_error_estimate(factored.rigid_motion_forces(),
-                                                  ReducedSole(factored, shares), origin);
-    std::printf("%s %d x %d (%d contacts): pressure estimate %.4f, worst sampled motion %.4f, "
-                "factorization form %.4f; stiffness estimate %.4f\n",
-                k.basis == PatchBasis::bilinear ? "bilinear" : "constant", k.g, k.g,
-                reduced.n_patches(), estimate, worst, from_k,
-                reduction_error_estimate(sole.rigid_motion_stiffness(), reduced, origin));
-    EXPECT_LE(worst, estimate * (1 + 1e-9));
-    EXPECT_GE(worst, estimate * (1 - 1e-3));
-    EXPECT_NEAR(from_k, estimate, 1e-9 * estimate);
-  }
-  // One node per patch: the full sole, no error.
-  std::vector<int> identity(n);
-  for (int i = 0; i < n; ++i)
-    identity[i] = i;
-  EXPECT_LT(pressure_error_estimate(f_full, ReducedSole(x, c, identity), origin), 1e-9);
-  EXPECT_THROW(pressure_error_estimate(f_full.topRows(3), ReducedSole(x, c, identity), origin),
-               std::invalid_argument);
-  // auto on the pressure: the coarsest bilinear grid whose pressure estimate meets the
-  // tolerance, the next coarser one missing it; the same choice from either form.
-  const auto pressure_of = [&](int g) {
-    return pressure_error_estimate(
-        f_full,
-        ReducedSole(x, c,
-                    ReducedSole::grid_shares(x, g, g, GridSpacing::chebyshev, PatchBasis::bilinear,
-                                             weights)),
-        origin);
-  };
-  for (const double tolerance : {0.5, 0.1, 0.05, 0.03}) {
-    const ReductionChoice choice =
-        choose_reduction(x, c, tolerance, GridSpacing::chebyshev, weights, PatchBasis::bilinear,
-                         ReductionQuantity::pressure);
-    const ReductionChoice from_k =
-        choose_reduction(factored, tolerance, GridSpacing::chebyshev, weights, PatchBasis::bilinear,
-                         ReductionQuantity::pressure);
-    std::printf("pressure tolerance %.3g: grid %d, %d contacts, pressure estimate %.4f, "
-                "stiffness estimate %.4f, reached %d\n",
-                tolerance, choice.grid, choice.n_patches, choice.pressure_estimate, choice.estimate,
-                choice.reached);
-    EXPECT_EQ(choice.grid, from_k.grid) << tolerance;
-    EXPECT_EQ(choice.reached, from_k.reached) << tolerance;
-    if (!choice.reached)
-      continue;
-    EXPECT_LE(choice.pressure_estimate, tolerance);
-    EXPECT_EQ(choice.estimate_of(ReductionQuantity::pressure), choice.pressure_estimate);
-    EXPECT_NEAR(choice.pressure_estimate, pressure_of(choice.grid), 1e-12);
-    EXPECT_NEAR(from_k.pressure_estimate, choice.pressure_estimate, 1e-9);
-    if (choice.grid > 1) {
-      EXPECT_GT(pressure_of(choice.grid - 1), tolerance) << "a coarser grid meets it";
+    const Eigen::VectorXd weights = pressure_weights(node_areas(sole));
+    struct Case {
+      int g;
+      PatchBasis basis;
+    };
+    for (const Case& k : {Case{1, PatchBasis::bilinear}, Case{2, PatchBasis::bilinear},
+                          Case{4, PatchBasis::bilinear}, Case{4, PatchBasis::constant},
+                          Case{6, PatchBasis::constant}}) {
+      const ReducedSole::ShareMatrix shares =
+          ReducedSole::grid_shares(x, k.g, k.g, GridSpacing::chebyshev, k.basis, weights);
+      const ReducedSole reduced(x, c, shares);
+      const double estimate = pressure_error_estimate(f_full, reduced, origin);
+      const Eigen::MatrixXd a(ReducedSole::aggregation(shares));
+      const Eigen::MatrixXd c_r = a.transpose() * c * a;
+      const Eigen::MatrixXd f_r = a * c_r.fullPivLu().solve(a.transpose() * r);
+      double worst = 0;
+      for (const auto& m : motions) {
+        const Eigen::VectorXd full = f_full * m, red = f_r * m;
+        double num = 0, den = 0;
+        for (int i = 0; i < n; ++i) {
+          num += (red[3 * i + 2] - full[3 * i + 2]) * (red[3 * i + 2] - full[3 * i + 2]);
+          den += full[3 * i + 2] * full[3 * i + 2];
+        }
+        worst = std::max(worst, std::sqrt(num / den));
+      }
+      const double from_k = pressure_error_estimate(factored.rigid_motion_forces(),
+                                                    ReducedSole(factored, shares), origin);
+      std::printf("P%u, %s %d x %d (%d contacts): pressure estimate %.4f, worst sampled motion "
+                  "%.4f, factorization form %.4f; stiffness estimate %.4f\n",
+                  degree, k.basis == PatchBasis::bilinear ? "bilinear" : "constant", k.g, k.g,
+                  reduced.n_patches(), estimate, worst, from_k,
+                  reduction_error_estimate(sole.rigid_motion_stiffness(), reduced, origin));
+      EXPECT_LE(worst, estimate * (1 + 1e-9));
+      EXPECT_GE(worst, estimate * (1 - 1e-3));
+      EXPECT_NEAR(from_k, estimate, 1e-9 * estimate);
+    }
+    if (degree == 2)
+      continue; // the identity patches and auto below: on the P1 sole
+    // One node per patch: the full sole, no error.
+    std::vector<int> identity(n);
+    for (int i = 0; i < n; ++i)
+      identity[i] = i;
+    EXPECT_LT(pressure_error_estimate(f_full, ReducedSole(x, c, identity), origin), 1e-9);
+    EXPECT_THROW(pressure_error_estimate(f_full.topRows(3), ReducedSole(x, c, identity), origin),
+                 std::invalid_argument);
+    // auto on the pressure: the coarsest bilinear grid whose pressure estimate meets the
+    // tolerance, the next coarser one missing it; the same choice from either form.
+    const auto pressure_of = [&](int g) {
+      return pressure_error_estimate(
+          f_full,
+          ReducedSole(x, c,
+                      ReducedSole::grid_shares(x, g, g, GridSpacing::chebyshev,
+                                               PatchBasis::bilinear, weights)),
+          origin);
+    };
+    for (const double tolerance : {0.5, 0.1, 0.05, 0.03}) {
+      const ReductionChoice choice =
+          choose_reduction(x, c, tolerance, GridSpacing::chebyshev, weights, PatchBasis::bilinear,
+                           ReductionQuantity::pressure);
+      const ReductionChoice from_k =
+          choose_reduction(factored, tolerance, GridSpacing::chebyshev, weights,
+                           PatchBasis::bilinear, ReductionQuantity::pressure);
+      std::printf("pressure tolerance %.3g: grid %d, %d contacts, pressure estimate %.4f, "
+                  "stiffness estimate %.4f, reached %d\n",
+                  tolerance, choice.grid, choice.n_patches, choice.pressure_estimate,
+                  choice.estimate, choice.reached);
+      EXPECT_EQ(choice.grid, from_k.grid) << tolerance;
+      EXPECT_EQ(choice.reached, from_k.reached) << tolerance;
+      if (!choice.reached)
+        continue;
+      EXPECT_LE(choice.pressure_estimate, tolerance);
+      EXPECT_EQ(choice.estimate_of(ReductionQuantity::pressure), choice.pressure_estimate);
+      EXPECT_NEAR(choice.pressure_estimate, pressure_of(choice.grid), 1e-12);
+      EXPECT_NEAR(from_k.pressure_estimate, choice.pressure_estimate, 1e-9);
+      if (choice.grid > 1) {
+        EXPECT_GT(pressure_of(choice.grid - 1), tolerance) << "a coarser grid meets it";
+      }
     }
   }
 }
