@@ -273,12 +273,23 @@ Eigen::MatrixXd rigid_motion_forces(const Eigen::MatrixX3d& positions,
   return compliance.ldlt().solve(rigid_motion_map(positions, origin));
 }
 
+namespace {
+
+/// R^T F (6 x 6), symmetrized: the stiffness of the rigid-motion forces @p forces (3n x 6) of
+/// the points @p positions about @p origin.
+Eigen::Matrix<double, 6, 6> stiffness_of_forces(const Eigen::MatrixX3d& positions,
+                                                const Eigen::MatrixXd& forces,
+                                                const Eigen::Vector3d& origin) {
+  const Eigen::MatrixXd k = rigid_motion_map(positions, origin).transpose() * forces;
+  return 0.5 * (k + k.transpose());
+}
+
+} // namespace
+
 Eigen::Matrix<double, 6, 6> rigid_motion_stiffness(const Eigen::MatrixX3d& positions,
                                                    const Eigen::MatrixXd& compliance,
                                                    const Eigen::Vector3d& origin) {
-  const Eigen::MatrixXd k = rigid_motion_map(positions, origin).transpose() *
-                            rigid_motion_forces(positions, compliance, origin);
-  return 0.5 * (k + k.transpose());
+  return stiffness_of_forces(positions, rigid_motion_forces(positions, compliance, origin), origin);
 }
 
 namespace {
@@ -402,9 +413,8 @@ ReductionChoice choose_reduction(const Eigen::MatrixX3d& positions,
                                  PatchBasis basis, ReductionQuantity quantity) {
   const Eigen::Vector3d origin = positions.colwise().mean().transpose();
   const Eigen::MatrixXd forces = rigid_motion_forces(positions, compliance, origin);
-  const Eigen::MatrixXd k = rigid_motion_map(positions, origin).transpose() * forces;
-  const Eigen::Matrix<double, 6, 6> k_full = 0.5 * (k + k.transpose());
-  return choose_grid(positions, k_full, forces, tolerance, spacing, basis, weights, quantity,
+  return choose_grid(positions, stiffness_of_forces(positions, forces, origin), forces, tolerance,
+                     spacing, basis, weights, quantity,
                      [&](const ReducedSole::ShareMatrix& shares) {
                        return ReducedSole(positions, compliance, shares);
                      });
