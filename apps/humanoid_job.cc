@@ -109,6 +109,11 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
     out << "touchdown adaptation: " << s.early_touchdowns << " early, " << s.late_touchdowns
         << " late touchdowns, ground levels found up to " << s.max_touchdown_level * 1e3
         << " mm from the plan\n";
+  if (scene.control.balance.step.enabled)
+    out << "step adjustment: " << s.adjusted_steps << " landings moved, the largest by "
+        << s.max_step_adjustment * 1e3 << " mm; the plan's shift at the end ("
+        << s.step_plan_shift.x() * 1e3 << ", " << s.step_plan_shift.y() * 1e3
+        << ") mm; landings up to " << s.max_landing_error * 1e3 << " mm from their targets\n";
   out << "right sole at the end: " << s.final_right_sole.transpose() << " m (planned "
       << s.planned_right_sole.transpose() << ")\n"
       << "left sole at the end: " << s.final_left_sole.transpose() << " m (planned "
@@ -223,6 +228,9 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "roll_difference_deg," << (s.commanded_roll - s.final_roll) * deg << "\n"
         << "max_roll_difference_deg," << s.max_roll_difference * deg << "\n"
         << "max_waist_tilt_deg," << s.max_waist_tilt * deg << "\n"
+        << "adjusted_steps," << s.adjusted_steps << "\n"
+        << "max_step_adjustment," << s.max_step_adjustment << "\n"
+        << "max_landing_error," << s.max_landing_error << "\n"
         << "sole_thickness," << s.sole_thickness << "\n"
         << "n_solves," << s.n_solves << "\n"
         << "n_direct_solves," << s.n_direct_solves << "\n"

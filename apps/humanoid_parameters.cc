@@ -535,6 +535,22 @@ const std::vector<ControlNumber>& control_numbers() {
        "m/s: a foot that has not touched down when its plan is down moves down at this speed."},
       {"Max touchdown offset", [](C& c) { return &c.balance.touchdown.max_offset; }, 0, true,
        "m: clamp of the ground level a foot finds above or below its plan."},
+      {"Step adjustment gain", [](C& c) { return &c.balance.step.gain; }, 0, false,
+       "k_s, [0, 2]: Step adjustment: the landing moves by k_s times the DCM error the stance "
+       "sole cannot take, carried to the planned touchdown (docs/stabilizer.md)."},
+      {"Max step adjustment forward", [](C& c) { return &c.balance.step.max_forward; }, 0, true,
+       "m: clamp of a landing's move along the sole's x axis (either way)."},
+      {"Max step adjustment outward", [](C& c) { return &c.balance.step.max_outward; }, 0, false,
+       "m: clamp of a landing's move sideways, away from the stance foot."},
+      {"Max step adjustment inward", [](C& c) { return &c.balance.step.max_inward; }, 0, false,
+       "m: clamp of a landing's move sideways, towards the stance foot."},
+      {"Step adjustment CoP margin", [](C& c) { return &c.balance.step.cop_margin; }, 0, false,
+       "m: a landing moves once the desired ZMP leaves the stance sole's CoP region (CoP "
+       "margin) shrunk by this further."},
+      {"Max step adjustment speed", [](C& c) { return &c.balance.step.max_target_speed; }, 0, true,
+       "m/s: a landing target moves at most this fast."},
+      {"Step adjustment freeze time", [](C& c) { return &c.balance.step.freeze_time; }, 0, false,
+       "s: over the last this much of a swing the landing is held."},
       {"IMU orientation noise", [](C& c) { return &c.balance.sensors.orientation.noise; }, 0, false,
        "rad, standard deviation of the IMU orientation's white noise (rotation vector)."},
       {"IMU orientation bias", [](C& c) { return &c.balance.sensors.orientation.bias; }, -1e300,
@@ -583,6 +599,14 @@ void ControlParameters::declare(dealii::ParameterHandler& prm) {
                     "Stabilizer = dcm: each swing foot stops where it touches the ground early "
                     "and searches downwards when late; the foot keeps the level it found "
                     "(multibody/walking/touchdown_adaptation.h).");
+  prm.declare_entry("Step adjustment", d.balance.step.enabled ? "true" : "false", Bool(),
+                    "Stabilizer = dcm: where the stance sole cannot take the desired ZMP, the "
+                    "swing foot lands elsewhere and the rest of the walk is translated with it "
+                    "(multibody/walking/step_adjustment.h).");
+  prm.declare_entry("Step adjustment leg iterations", std::to_string(d.balance.step.leg_iterations),
+                    Integer(0, 10),
+                    "Step adjustment: Newton steps bringing each leg to its offset sole pose "
+                    "after the linear (Jacobian) step, [0, 10].");
   prm.declare_entry("Sensor delay", std::to_string(d.balance.sensors.delay), Integer(0, 1000),
                     "Every sensor's delay in control periods (= Simulation/Time step).");
   prm.declare_entry("Sensor seed", std::to_string(d.balance.sensors.seed), Integer(0),
@@ -609,6 +633,9 @@ void ControlParameters::parse(dealii::ParameterHandler& prm) {
     *entry.member(*this) = value;
   }
   balance.touchdown.enabled = prm.get_bool("Touchdown adaptation");
+  balance.step.enabled = prm.get_bool("Step adjustment");
+  balance.step.leg_iterations = prm.get_integer("Step adjustment leg iterations");
+  require(balance.step.gain <= 2, "Control/Step adjustment gain", balance.step.gain, "in [0, 2]");
   balance.sensors.delay = prm.get_integer("Sensor delay");
   require(balance.sensors.delay >= 0 && balance.sensors.delay <= 1000, "Control/Sensor delay",
           balance.sensors.delay, "in [0, 1000] control periods");

@@ -73,6 +73,10 @@ walking::Humanoid resolve_humanoid(const multibody::Model& model, const Scene& s
   }
 }
 
+walking::PlannedSwing planned_swing(const Eigen::Vector2d& swing) {
+  return {swing[0], swing[1]};
+}
+
 double roll_of(const Eigen::Matrix3d& rotation) {
   return std::atan2(rotation(2, 1), rotation(2, 2));
 }
@@ -251,11 +255,32 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
       contact_columns.push_back(pads_->name(i) + suffix);
   contacts_ = TimeSeries(contact_columns, rows);
   if (balance_)
-    balance_series_ = TimeSeries({"t",         "dcm_x",         "dcm_y",         "dcm_ref_x",
-                                  "dcm_ref_y", "true_dcm_x",    "true_dcm_y",    "zmp_ref_x",
-                                  "zmp_ref_y", "zmp_desired_x", "zmp_desired_y", "com_x",
-                                  "com_y",     "com_z",         "right_roll",    "right_pitch",
-                                  "right_dz",  "left_roll",     "left_pitch",    "left_dz"},
+    balance_series_ = TimeSeries({"t",
+                                  "dcm_x",
+                                  "dcm_y",
+                                  "dcm_ref_x",
+                                  "dcm_ref_y",
+                                  "true_dcm_x",
+                                  "true_dcm_y",
+                                  "zmp_ref_x",
+                                  "zmp_ref_y",
+                                  "zmp_desired_x",
+                                  "zmp_desired_y",
+                                  "com_x",
+                                  "com_y",
+                                  "com_z",
+                                  "right_roll",
+                                  "right_pitch",
+                                  "right_dz",
+                                  "left_roll",
+                                  "left_pitch",
+                                  "left_dz",
+                                  "step_deficit_x",
+                                  "step_deficit_y",
+                                  "plan_shift_x",
+                                  "plan_shift_y",
+                                  "landing_shift_x",
+                                  "landing_shift_y"},
                                  rows);
   unconverged_ = UnconvergedSolves(n_steps_);
   const double bandwidth = scene_.output.accelerometer_bandwidth;
@@ -319,7 +344,16 @@ void HumanoidSimulation::step() {
     balance_->set_planned_ground(reference_.ground_at(t_next));
     balance_->set_planned_supports(reference_.support_at(0, t_next),
                                    reference_.support_at(1, t_next));
+    balance_->set_planned_swings({planned_swing(reference_.swing_at(0, t_next)),
+                                  planned_swing(reference_.swing_at(1, t_next))},
+                                 t_next);
     balance_->update(q_, v_, acceleration_, ground_wrenches_, q_ref_);
+    summary_.adjusted_steps = balance_->step_adjustment().adjusted_steps();
+    summary_.max_step_adjustment = balance_->step_adjustment().max_adjustment();
+    summary_.step_plan_shift = balance_->step_adjustment().plan_shift();
+    summary_.max_landing_error = balance_->step_adjustment().max_landing_error();
+    for (int foot = 0; foot < 2; ++foot)
+      summary_.final_anchor_shifts[foot] = balance_->step_adjustment().anchor_shift(foot);
     const walking::TouchdownAdaptation& touchdown = balance_->touchdown();
     summary_.early_touchdowns = touchdown.early_touchdowns();
     summary_.late_touchdowns = touchdown.late_touchdowns();
@@ -555,10 +589,14 @@ void HumanoidSimulation::step() {
     const Eigen::Vector2d& zmp_desired = balance_->stabilizer().desired_zmp();
     const Eigen::Vector3d& com = balance_->estimator().com();
     const auto& offsets = balance_->stabilizer().offsets();
+    const walking::StepAdjustment& steps = balance_->step_adjustment();
+    const Eigen::Vector2d& deficit = steps.deficit();
     auto br = balance_series_.append();
     br << t, dcm.x(), dcm.y(), dcm_ref.x(), dcm_ref.y(), true_dcm.x(), true_dcm.y(), zmp_ref.x(),
         zmp_ref.y(), zmp_desired.x(), zmp_desired.y(), com.x(), com.y(), com.z(), offsets[0].roll,
-        offsets[0].pitch, offsets[0].height, offsets[1].roll, offsets[1].pitch, offsets[1].height;
+        offsets[0].pitch, offsets[0].height, offsets[1].roll, offsets[1].pitch, offsets[1].height,
+        deficit.x(), deficit.y(), steps.plan_shift().x(), steps.plan_shift().y(),
+        steps.landing_target().x(), steps.landing_target().y();
   }
   for (int i = 0; i < pads_->size(); ++i) {
     const PadReport& pad = pad_reports_[i];

@@ -61,7 +61,15 @@ struct HumanoidSummary {
   int n_landings = 0; ///< touchdowns detected
   // Control/Touchdown adaptation (multibody/walking/touchdown_adaptation.h):
   int early_touchdowns = 0, late_touchdowns = 0; ///< both feet
-  double max_touchdown_level = 0;        ///< m, largest |ground level found - plan| of a foot
+  double max_touchdown_level = 0; ///< m, largest |ground level found - plan| of a foot
+  // Control/Step adjustment (multibody/walking/step_adjustment.h):
+  int adjusted_steps = 0;                                    ///< landings moved by more than 1 mm
+  double max_step_adjustment = 0;                            ///< m, largest move of one landing
+  Eigen::Vector2d step_plan_shift = Eigen::Vector2d::Zero(); ///< m, the plan's shift S at the end
+  double max_landing_error = 0; ///< m, largest |sensed landing - target| of a moved foot
+  /// m, each sole's (right, left) anchor shift at the end: where the loop takes it to be
+  std::array<Eigen::Vector2d, 2> final_anchor_shifts{Eigen::Vector2d::Zero(),
+                                                     Eigen::Vector2d::Zero()};
   double max_landing_peak_force = 0;     ///< N, largest peak F_z of a landing window
   double max_landing_impulse = 0;        ///< N s, largest impulse of a landing window
   double max_landing_acceleration_z = 0; ///< largest filtered |a_z| in a landing window

@@ -30,8 +30,8 @@ BalanceController::BalanceController(const multibody::Model& model, const Humano
     : model_(model), humanoid_(humanoid), parameters_(parameters), dt_(dt), stabilize_(stabilize),
       sensors_(model, parameters.sensors),
       estimator_(model, humanoid, parameters.sensors.imu_frame, parameters.estimator, dt),
-      stabilizer_(parameters.stabilizer), touchdown_(parameters.touchdown), reference_data_(model),
-      true_data_(model), jacobian_(6, model.nv) {
+      stabilizer_(parameters.stabilizer), touchdown_(parameters.touchdown), step_(parameters.step),
+      reference_data_(model), true_data_(model), leg_data_(model), jacobian_(6, model.nv) {
   if (!(parameters.zmp_time_constant > 0 && parameters.contact_height > 0))
     throw std::invalid_argument("BalanceController: ZMP time constant and contact height > 0");
   for (int foot = 0; foot < 2; ++foot) {
@@ -70,12 +70,16 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     zmp_ref_ += dt_ / (parameters_.zmp_time_constant + dt_) * (zmp_now - zmp_ref_);
   com_ref_ = com_ref;
   dcm_ref_ = dcm_ref;
+  dcm_target_ = dcm_ref + step_.dcm_shift();
+  zmp_target_ = zmp_ref_ + step_.zmp_shift();
   std::array<Eigen::Vector3d, 2> soles;
   for (int foot = 0; foot < 2; ++foot) {
     const multibody::SE3 sole =
         multibody::frame_placement(model_, reference_data_, humanoid_.sole_frames[foot]);
     soles[foot] = sole.translation;
-    feet_[foot].position = sole.translation;
+    reference_soles_[foot] = sole.translation;
+    soles[foot].head<2>() += step_.anchor_shift(foot);
+    feet_[foot].position = soles[foot];
     feet_[foot].rotation = sole.rotation;
     if (first_) {
       ground_height_[foot] = sole.translation.z();
@@ -119,8 +123,8 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
   }
   const Eigen::Vector2d dcm = estimator_.dcm(omega_).head<2>();
   const Eigen::Vector2d dcm_true = (com_true + com_true_velocity / omega_).head<2>();
-  statistics_.dcm_error = dcm - dcm_ref;
-  statistics_.true_dcm_error = dcm_true - dcm_ref;
+  statistics_.dcm_error = dcm - dcm_target_;
+  statistics_.true_dcm_error = dcm_true - dcm_target_;
   statistics_.max_dcm_error = std::max(statistics_.max_dcm_error, statistics_.dcm_error.norm());
   statistics_.max_com_estimate_error =
       std::max(statistics_.max_com_estimate_error, (estimator_.com() - com_true).norm());
@@ -131,19 +135,81 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     return;
 
   // Stabilizer and joint references.
-  stabilizer_.update(dcm, dcm_ref, zmp_ref_, feet_, dt_);
+  stabilizer_.update(dcm, dcm_target_, zmp_target_, feet_, dt_);
+  std::array<Eigen::Matrix2d, 2> yaw;
+  std::array<bool, 2> touched;
+  for (int foot = 0; foot < 2; ++foot) {
+    const Eigen::Matrix3d& r = feet_[foot].rotation;
+    const double angle = std::atan2(r(1, 0), r(0, 0));
+    yaw[foot] << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+    touched[foot] = normal[foot] > parameters_.touchdown.force;
+  }
+  // The step's ZMP deficit: the desired ZMP's offset from the reference, about the stance
+  // sole's centre (the filtered reference ZMP lags the transfer at lift-off).
+  Eigen::Vector2d deficit = Eigen::Vector2d::Zero();
+  const bool right_swings = swings_[0].progress >= 0, left_swings = swings_[1].progress >= 0;
+  if (right_swings != left_swings) {
+    const StabilizerFoot& stance = feet_[right_swings ? 1 : 0];
+    if (stance.contact) {
+      // The point of the stance's CoP region nearest its centre (the centre on a whole sole).
+      const double margin = parameters_.step.cop_margin;
+      const Eigen::Vector2d centre = stance.position.head<2>();
+      const Eigen::Vector2d origin = centre - stabilizer_.cop_excess(stance, centre, margin);
+      deficit =
+          stabilizer_.cop_excess(stance, origin + stabilizer_.desired_zmp() - zmp_target_, margin);
+    }
+  }
+  std::array<Eigen::Vector2d, 2> sensed;
+  for (int foot = 0; foot < 2; ++foot) {
+    const Eigen::Vector3d sole =
+        parameters_.estimate == StateEstimate::ground_truth
+            ? multibody::frame_placement(model_, true_data_, humanoid_.sole_frames[foot])
+                  .translation
+            : estimator_.soles()[foot];
+    sensed[foot] = (sole - reference_soles_[foot]).head<2>();
+  }
+  step_.update(swing_time_, swings_, yaw, touched, sensed, deficit, omega_,
+               1 + stabilizer_.parameters().dcm_gain / omega_, dt_);
   for (int foot = 0; foot < 2; ++foot) {
     const FootOffset& o = stabilizer_.offsets()[foot];
     multibody::frame_jacobian(model_, reference_data_, humanoid_.sole_frames[foot], jacobian_);
     for (int j = 0; j < 6; ++j)
       leg_jacobian_.col(j) = jacobian_.col(model_.idx_v[humanoid_.leg_joints[foot][j]]);
     multibody::Vector6d motion;
-    motion.head<3>() << 0, 0, o.height + dz[foot];
+    const Eigen::Vector2d shift = step_.foot_shift(foot) - step_.com_shift();
+    motion.head<3>() << shift.x(), shift.y(), o.height + dz[foot];
     motion.tail<3>() = feet_[foot].rotation * Eigen::Vector3d(o.roll, o.pitch, 0);
     leg_lu_.compute(leg_jacobian_);
     const multibody::Vector6d dq = leg_lu_.solve(motion);
     for (int j = 0; j < 6; ++j)
       q_ref[model_.idx_q[humanoid_.leg_joints[foot][j]]] += dq[j];
+    const multibody::SE3 sole =
+        multibody::frame_placement(model_, reference_data_, humanoid_.sole_frames[foot]);
+    sole_targets_[foot] = multibody::SE3(
+        multibody::exp3_quaternion(motion.tail<3>()).toRotationMatrix() * sole.rotation,
+        sole.translation + motion.head<3>());
+  }
+  if ((step_.foot_shift(0) - step_.com_shift()).squaredNorm() +
+          (step_.foot_shift(1) - step_.com_shift()).squaredNorm() ==
+      0)
+    return; // no shift (step adjustment off or idle): the linear offsets are the stabilizer's
+  // The step's shifts reach a decimetre: Newton on each leg to the offset sole pose.
+  for (int iteration = 0; iteration < parameters_.step.leg_iterations; ++iteration) {
+    multibody::forward_kinematics(model_, leg_data_, q_ref);
+    for (int foot = 0; foot < 2; ++foot) {
+      const multibody::SE3 sole =
+          multibody::frame_placement(model_, leg_data_, humanoid_.sole_frames[foot]);
+      multibody::Vector6d error;
+      error.head<3>() = sole_targets_[foot].translation - sole.translation;
+      error.tail<3>() = multibody::log3(sole_targets_[foot].rotation * sole.rotation.transpose());
+      multibody::frame_jacobian(model_, leg_data_, humanoid_.sole_frames[foot], jacobian_);
+      for (int j = 0; j < 6; ++j)
+        leg_jacobian_.col(j) = jacobian_.col(model_.idx_v[humanoid_.leg_joints[foot][j]]);
+      leg_lu_.compute(leg_jacobian_);
+      const multibody::Vector6d dq = leg_lu_.solve(error);
+      for (int j = 0; j < 6; ++j)
+        q_ref[model_.idx_q[humanoid_.leg_joints[foot][j]]] += dq[j];
+    }
   }
 }
 

@@ -11,10 +11,18 @@
 // its F/T sensor reads more than the stabilizer's min_contact_force.
 // With touchdown adaptation on, each foot's height offset dz (touchdown_adaptation.h) moves its
 // reference sole (the contact test, the estimator's anchors and the leg offsets below).
+// With step adjustment on (step_adjustment.h; its ZMP deficit is the stance sole's excess of
+// c + p_d - p_ref, c the sole's centre, p_d - p_ref the stabilizer's ZMP offset; the plan's
+// swings from set_planned_swings), the reference DCM and ZMP are translated by its shifts dxi and
+// dp, each reference sole by its anchor shift (the stabilizer's feet, the estimator's
+// anchors; the sensed landing, step_adjustment.h), each leg by its foot shift w_i and the
+// waist by the CoM shift dc.
 // Foot offsets become joint references through each leg's Jacobian at q_ref (sole frame,
-// world-aligned axes, the leg's 6 joints): dq_leg = J_leg^-1 [0, 0, z, R_sole (roll, pitch,
-// 0)], z the force difference offset plus dz, added to q_ref's leg joints. Allocates nothing after
-// construction.
+// world-aligned axes, the leg's 6 joints): dq_leg = J_leg^-1 [w_i - dc, z, R_sole (roll,
+// pitch, 0)], z the force difference offset plus dz, added to q_ref's leg joints; with step
+// adjustment on, StepAdjustmentParameters::leg_iterations Newton steps then bring each sole to
+// that offset pose (the linearisation errs by centimetres at a decimetre's shift). Allocates
+// nothing after construction.
 
 #include "multibody/data.h"
 #include "multibody/model.h"
@@ -23,6 +31,7 @@
 #include "multibody/walking/com_estimator.h"
 #include "multibody/walking/dcm_stabilizer.h"
 #include "multibody/walking/humanoid.h"
+#include "multibody/walking/step_adjustment.h"
 #include "multibody/walking/touchdown_adaptation.h"
 
 #include <Eigen/Core>
@@ -47,6 +56,8 @@ struct BalanceParameters {
   double contact_height = 0.002;      ///< m, > 0
   /// Early and late touchdowns (touchdown_adaptation.h).
   TouchdownParameters touchdown;
+  /// Where the swing foot lands (step_adjustment.h).
+  StepAdjustmentParameters step;
 };
 
 /// Running figures of the loop (for summaries and tests).
@@ -80,13 +91,22 @@ public:
     feet_[0].support = right;
     feet_[1].support = left;
   }
+  /// Each sole's planned swing at the time of the next update (JointReference::swing_at) and
+  /// that time @p t (s).
+  void set_planned_swings(const std::array<PlannedSwing, 2>& swings, double t) {
+    swings_ = swings;
+    swing_time_ = t;
+  }
   const BalanceStatistics& statistics() const { return statistics_; }
   const ComEstimator& estimator() const { return estimator_; }
   const DcmStabilizer& stabilizer() const { return stabilizer_; }
   const TouchdownAdaptation& touchdown() const { return touchdown_; }
+  const StepAdjustment& step_adjustment() const { return step_; }
   double omega() const { return omega_; }
-  const Eigen::Vector2d& reference_dcm() const { return dcm_ref_; } ///< xi_ref (x, y), m
-  const Eigen::Vector2d& reference_zmp() const { return zmp_ref_; } ///< p_ref (filtered), m
+  /// xi_ref (x, y; m), translated by the step adjustment's dxi
+  const Eigen::Vector2d& reference_dcm() const { return dcm_target_; }
+  /// p_ref (filtered; x, y; m), translated by dp
+  const Eigen::Vector2d& reference_zmp() const { return zmp_target_; }
 
 private:
   const multibody::Model& model_;
@@ -98,14 +118,20 @@ private:
   ComEstimator estimator_;
   DcmStabilizer stabilizer_;
   TouchdownAdaptation touchdown_;
-  multibody::Data reference_data_, true_data_;
-  std::array<multibody::SE3, 2> sensor_in_sole_; ///< F/T sensor frame -> sole frame
+  StepAdjustment step_;
+  std::array<PlannedSwing, 2> swings_{};
+  double swing_time_ = 0;
+  multibody::Data reference_data_, true_data_, leg_data_;
+  std::array<multibody::SE3, 2> sole_targets_;     ///< reference soles with their offsets
+  std::array<Eigen::Vector3d, 2> reference_soles_; ///< the reference's soles (world, m)
+  std::array<multibody::SE3, 2> sensor_in_sole_;   ///< F/T sensor frame -> sole frame
   std::array<double, 2> ground_height_{};
   Eigen::Vector2d planned_ground_ = Eigen::Vector2d::Zero(),
                   planned_ground0_ = Eigen::Vector2d::Zero();
   bool first_ = true;
   Eigen::Vector3d com_ref_ = Eigen::Vector3d::Zero();
   Eigen::Vector2d dcm_ref_ = Eigen::Vector2d::Zero(), zmp_ref_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d dcm_target_ = Eigen::Vector2d::Zero(), zmp_target_ = Eigen::Vector2d::Zero();
   std::array<StabilizerFoot, 2> feet_{};
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian_;
   multibody::Matrix6d leg_jacobian_;

@@ -68,6 +68,8 @@ void ComEstimator::update(const Eigen::Ref<const Eigen::VectorXd>& encoders,
                     multibody::frame_placement(model_, data_, sole_frames_[foot]).translation;
     base_position += weights_[foot] * anchors[foot];
   }
+  for (int foot = 0; foot < 2; ++foot)
+    soles_[foot] = reference_soles[foot] - anchors[foot] + base_position;
   const Eigen::Vector3d com_in_base = multibody::center_of_mass(model_, data_);
   const Eigen::Vector3d com = com_in_base + base_position;
   if (first_) {

@@ -52,6 +52,9 @@ public:
   const Eigen::Vector3d& com() const { return com_; }                   ///< m, world
   const Eigen::Vector3d& com_velocity() const { return com_velocity_; } ///< m/s, world
   Eigen::Vector3d dcm(double omega) const { return com_ + com_velocity_ / omega; }
+  /// The soles (right, left) where the estimate puts them: s_i(q_est; p_b) (world, m); a loaded
+  /// sole on its reference position, a swinging one where the kinematics from it say.
+  const std::array<Eigen::Vector3d, 2>& soles() const { return soles_; }
 
 private:
   const multibody::Model& model_;
@@ -67,6 +70,7 @@ private:
   Eigen::Vector3d com_ = Eigen::Vector3d::Zero(), com_velocity_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d com_in_base_ = Eigen::Vector3d::Zero(); ///< CoM(q_est; p_b = 0), last period
   std::array<Eigen::Vector3d, 2> anchors_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<Eigen::Vector3d, 2> soles_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
 };
 
 } // namespace plantar::walking

@@ -23,6 +23,27 @@ DcmStabilizer::DcmStabilizer(const DcmStabilizerParameters& parameters) : parame
                                 "gains and the support margin >= 0");
 }
 
+Eigen::Vector2d DcmStabilizer::clamped_target(const StabilizerFoot& f, const Eigen::Vector2d& cop,
+                                              double margin, Eigen::Vector2d& target) const {
+  const DcmStabilizerParameters& p = parameters_;
+  const Eigen::Vector3d local =
+      f.rotation.transpose() *
+      Eigen::Vector3d(cop.x() - f.position.x(), cop.y() - f.position.y(), 0.0);
+  if (f.support)
+    target = nearest_in_polygon(local.head<2>(), *f.support, p.support_margin + margin);
+  else
+    target << clamp(local.x(), std::max(p.sole_half_size.x() - margin, 0.0)),
+        clamp(local.y(), std::max(p.sole_half_size.y() - margin, 0.0));
+  return (f.rotation * Eigen::Vector3d(local.x() - target.x(), local.y() - target.y(), 0.0))
+      .head<2>();
+}
+
+Eigen::Vector2d DcmStabilizer::cop_excess(const StabilizerFoot& foot, const Eigen::Vector2d& cop,
+                                          double margin) const {
+  Eigen::Vector2d target;
+  return clamped_target(foot, cop, margin, target);
+}
+
 void DcmStabilizer::update(const Eigen::Vector2d& dcm, const Eigen::Vector2d& dcm_ref,
                            const Eigen::Vector2d& zmp_ref,
                            const std::array<StabilizerFoot, 2>& feet, double dt) {
@@ -50,6 +71,7 @@ void DcmStabilizer::update(const Eigen::Vector2d& dcm, const Eigen::Vector2d& dc
   }
 
   // Foot damping control.
+  zmp_deficit_.setZero();
   for (int foot = 0; foot < 2; ++foot) {
     const StabilizerFoot& f = feet[foot];
     FootOffset& o = offsets_[foot];
@@ -57,19 +79,11 @@ void DcmStabilizer::update(const Eigen::Vector2d& dcm, const Eigen::Vector2d& dc
     double pitch_rate = -o.pitch / p.foot_time_constant;
     const double fz = f.force.z();
     if (f.contact && fz > p.min_contact_force) {
-      const Eigen::Vector3d offset(cop_target[foot].x() - f.position.x(),
-                                   cop_target[foot].y() - f.position.y(), 0.0);
-      const Eigen::Vector3d local = f.rotation.transpose() * offset;
-      double target_x, target_y;
-      if (f.support) {
-        const Eigen::Vector2d target =
-            nearest_in_polygon(local.head<2>(), *f.support, p.support_margin);
-        target_x = target.x();
-        target_y = target.y();
-      } else {
-        target_x = clamp(local.x(), p.sole_half_size.x());
-        target_y = clamp(local.y(), p.sole_half_size.y());
-      }
+      Eigen::Vector2d target;
+      const Eigen::Vector2d excess = clamped_target(f, cop_target[foot], 0.0, target);
+      const double target_x = target.x(), target_y = target.y();
+      if (!both)
+        zmp_deficit_ = excess;
       const double cop_x = -f.moment.y() / fz, cop_y = f.moment.x() / fz;
       roll_rate += (cop_y - target_y) * fz / p.foot_damping;
       pitch_rate += (target_x - cop_x) * fz / p.foot_damping;

@@ -10,6 +10,7 @@
 //                      on the segment between the sole centres, p_s = p_R + s (p_L - p_R),
 //                      s in [0, 1], CoP targets p_i + (p_d - p_s), forces f_L = s f,
 //                      f_R = (1 - s) f (f: the measured total)
+//   ZMP deficit        d = p_d - its clamped CoP target (world) with one foot in contact; else 0
 //   foot damping       per foot in contact, sole axes, CoP targets clamped to the sole (its
 //                      support polygon shrunk by a margin when the plan gives one):
 //                      roll'  = (cop_y - cop_y,d) f_z / D - roll / T_c
@@ -72,13 +73,24 @@ public:
   const std::array<FootOffset, 2>& offsets() const { return offsets_; }
   const Eigen::Vector2d& desired_zmp() const { return desired_zmp_; }
   const Eigen::Vector2d& dcm_error() const { return error_; }
+  /// What the one loaded sole cannot take of the desired ZMP (world x, y; m).
+  const Eigen::Vector2d& zmp_deficit() const { return zmp_deficit_; }
+  /// @p cop (world x, y; m) minus the nearest CoP target @p foot can take (its support polygon
+  /// shrunk by support_margin, or +-sole_half_size) shrunk by a further @p margin (m, >= 0),
+  /// world x, y [m]; 0 inside.
+  Eigen::Vector2d cop_excess(const StabilizerFoot& foot, const Eigen::Vector2d& cop,
+                             double margin = 0) const;
 
 private:
+  /// The CoP target nearest @p cop that @p f can take (sole axes, m) and the excess (world).
+  Eigen::Vector2d clamped_target(const StabilizerFoot& f, const Eigen::Vector2d& cop, double margin,
+                                 Eigen::Vector2d& target) const;
   DcmStabilizerParameters parameters_;
   std::array<FootOffset, 2> offsets_{};
   double force_offset_ = 0; ///< z
   Eigen::Vector2d error_ = Eigen::Vector2d::Zero(), integral_ = Eigen::Vector2d::Zero();
   Eigen::Vector2d desired_zmp_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d zmp_deficit_ = Eigen::Vector2d::Zero();
 };
 
 } // namespace plantar::walking

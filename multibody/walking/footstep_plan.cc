@@ -168,6 +168,8 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
     plan.supports.push_back(f.support);
   plan.support_index.resize(n, 2);
   plan.phase.assign(n, SupportPhase::double_support);
+  plan.swing_progress.setConstant(n, 2, -1.0);
+  plan.swing_end.setConstant(n, 2, -1.0);
 
   // Event list: each step i: single support [ss_start_i, ss_start_i + Tss], then double
   // support Tds (except after the last step, where the final double support follows).
@@ -217,6 +219,8 @@ FootstepPlan make_footstep_plan(const WalkingParameters& p) {
         plan.zmp_reference.row(k) = support_centre.transpose();
         plan.support_index.row(k) = on.transpose();
         plan.support_index(k, right_swings ? 0 : 1) = 2 + i;
+        plan.swing_progress(k, right_swings ? 0 : 1) = moving.progress;
+        plan.swing_end(k, right_swings ? 0 : 1) = ss_end;
         done = true;
         break;
       }

@@ -108,6 +108,9 @@ struct FootstepPlan {
   /// swings to.
   Eigen::MatrixX2i support_index;
   std::vector<SupportPhase> phase;
+  /// Per sample, each sole's (right, left) swing: the horizontal progress s in [0, 1]
+  /// (SwingSample::progress) and the planned touchdown time [s]; both -1 while it is down.
+  Eigen::MatrixX2d swing_progress, swing_end;
   double walk_start = 0.0, walk_end = 0.0; ///< start and end of the walk proper [s]
 };
 

@@ -79,6 +79,21 @@ const Eigen::Matrix2Xd* JointReference::support_at(int foot, double t) const {
   return polygon.cols() >= 3 ? &polygon : nullptr;
 }
 
+Eigen::Vector2d JointReference::swing_at(int foot, double t) const {
+  if (swing_progress.rows() != n_samples() || n_samples() == 0)
+    return Eigen::Vector2d(-1, -1);
+  int k, k1;
+  double w;
+  interval(t, k, k1, w);
+  const int nearer = w < 0.5 ? k : k1;
+  if (swing_progress(nearer, foot) < 0)
+    return Eigen::Vector2d(-1, -1);
+  // A down neighbour: before the swing (k) its start, after it (k1) its end.
+  const double a = swing_progress(k, foot) < 0 ? 0.0 : swing_progress(k, foot);
+  const double b = swing_progress(k1, foot) < 0 ? 1.0 : swing_progress(k1, foot);
+  return Eigen::Vector2d((1 - w) * a + w * b, swing_end(nearer, foot));
+}
+
 void JointReference::set(int k, const Eigen::Isometry3d& base,
                          const Eigen::Ref<const Eigen::VectorXd>& angles,
                          const Eigen::Vector3d& centre_of_mass) {

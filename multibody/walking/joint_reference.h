@@ -26,6 +26,9 @@ struct JointReference {
   /// to (FootstepPlan::supports, support_index; empty for references without them).
   std::vector<Eigen::Matrix2Xd> supports;
   Eigen::MatrixX2i support_index;
+  /// n x 2, each sole's swing: horizontal progress in [0, 1] and planned touchdown time [s],
+  /// -1 while it is down (FootstepPlan::swing_progress, swing_end; empty: no swings planned).
+  Eigen::MatrixX2d swing_progress, swing_end;
   int n_samples() const { return static_cast<int>(time.size()); }
   double duration() const { return time.size() ? time(time.size() - 1) : 0.0; }
   /// Reference at any time t (for a simulation dt finer than the period): q and the base
@@ -40,6 +43,10 @@ struct JointReference {
   /// The support polygon of sole @p foot (0 right, 1 left) at t (the nearer sample), in the
   /// sole frame [m]; nullptr when none is planned (empty: the whole sole).
   const Eigen::Matrix2Xd* support_at(int foot, double t) const;
+  /// Sole @p foot's (0 right, 1 left) swing at t: (progress, planned touchdown time [s]),
+  /// progress linear between samples; (-1, -1) while it is down at the nearer sample or when
+  /// none is planned.
+  Eigen::Vector2d swing_at(int foot, double t) const;
   /// Resizes every array for n samples at `sample_period` (time filled with k period) and
   /// the joints @p names; ground is set to zero.
   void resize(int n, double sample_period, const std::vector<std::string>& names);

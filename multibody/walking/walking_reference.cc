@@ -165,6 +165,8 @@ WalkingPattern make_walking_pattern(const multibody::Model& model, const Humanoi
   ref.ground = plan.ground;
   ref.supports = plan.supports;
   ref.support_index = plan.support_index;
+  ref.swing_progress = plan.swing_progress;
+  ref.swing_end = plan.swing_end;
   Eigen::Isometry3d base = base0;
   const double ground0 = plan.ground.row(0).mean();
   for (int k = 0; k < n; ++k) {

@@ -4,6 +4,9 @@
 // - the kinematic CoM/DCM estimate against the simulator's ground truth on the six-step walk;
 // - the six-step walk with the stabilizer completes in the three foot forms, the soles at
 //   their planned positions;
+// - step adjustment (multibody/walking/step_adjustment.h): the rigid walk pushed forward in
+//   its third single support by 40 N s (sideways by 30 N s) falls with the ankle strategy alone
+//   and completes when the landings move; unpushed, turning it on changes nothing (bit for bit);
 // - Stabilizer = none is the PD playback bit for bit: the first 2 s of the rigid walk's waist
 //   series equal (==, 17 digits) those recorded by `plantar run` with Stabilizer = none
 //   (tests/apps/data/walk_rigid_2s_waist_tree.csv), sensor noise set or not. The recording
@@ -43,6 +46,22 @@ std::vector<std::vector<double>> read_numbers(const std::string& path) {
     rows.push_back(row);
   }
   return rows;
+}
+
+/// The default walk on rigid feet at dt = 1 ms, theta = 1, touchdown adaptation on, pushed on
+/// the waist along @p direction by @p impulse (N s over 0.1 s from t = 3.5 s, in the third
+/// single support: the right foot swings, 0.48 s before its planned touchdown).
+std::vector<std::pair<std::string, std::string>> pushed_walk(double impulse, bool adjust,
+                                                             const char* direction = "1, 0, 0") {
+  return {{"Robot/Foot form", "rigid"},
+          {"Simulation/Time step", "0.001"},
+          {"Simulation/Theta", "1"},
+          {"Control/Touchdown adaptation", "true"},
+          {"Control/Step adjustment", adjust ? "true" : "false"},
+          {"Simulation/Push time", "3.5"},
+          {"Simulation/Push direction", direction},
+          {"Simulation/Push magnitude", std::to_string(impulse)},
+          {"Simulation/Push duration", "0.1"}};
 }
 
 TEST(StabilizerNone, IsThePdPlaybackBitForBit) {
@@ -157,6 +176,24 @@ TEST(StabilizerLoop, StepAllocatesNothing) {
   EXPECT_EQ(n, 0);
 }
 
+TEST(StabilizerLoop, PushedStepAdjustingWalkAllocatesNothing) {
+  // The pushed walk with step adjustment over the push and the moved landing (3.2-4.1 s).
+  auto overrides = pushed_walk(40, true);
+  overrides.push_back({"Simulation/Duration", "4.1"});
+  HumanoidSimulation sim(testing::load_humanoid_scene("default", overrides));
+  while (sim.steps_done() < 3200)
+    sim.step();
+  const auto count = plantar::testing::count_allocations([&] {
+    while (sim.steps_done() < sim.n_steps())
+      sim.step();
+  });
+  std::printf("pushed walk with step adjustment: %ld allocations in %d steps, %d landings moved\n",
+              count.during, sim.n_steps() - 3200, sim.summary().adjusted_steps);
+  EXPECT_TRUE(count.counter_works);
+  EXPECT_EQ(count.during, 0);
+  EXPECT_GE(sim.summary().adjusted_steps, 1);
+}
+
 TEST(StabilizerScene, BadEntriesAreNamed) {
   auto message = [](const std::vector<std::pair<std::string, std::string>>& overrides) {
     try {
@@ -176,12 +213,85 @@ TEST(StabilizerScene, BadEntriesAreNamed) {
   const std::string duration = message({{"Simulation/Push duration", "0"}});
   std::printf("%s\n", duration.c_str());
   EXPECT_NE(duration.find("Simulation/Push duration = 0"), std::string::npos) << duration;
+  const std::string gain = message({{"Control/Step adjustment gain", "3"}});
+  std::printf("%s\n", gain.c_str());
+  EXPECT_NE(gain.find("Control/Step adjustment gain = 3"), std::string::npos) << gain;
+  const std::string speed = message({{"Control/Max step adjustment speed", "0"}});
+  std::printf("%s\n", speed.c_str());
+  EXPECT_NE(speed.find("Control/Max step adjustment speed = 0"), std::string::npos) << speed;
   const std::string damping = message({{"Control/Foot damping", "0"}});
   std::printf("%s\n", damping.c_str());
   EXPECT_NE(damping.find("Control/Foot damping = 0"), std::string::npos) << damping;
   const std::string tilt = message({{"Simulation/Fall tilt", "0"}});
   std::printf("%s\n", tilt.c_str());
   EXPECT_NE(tilt.find("Simulation/Fall tilt = 0"), std::string::npos) << tilt;
+}
+
+TEST(PushedWalk, StepAdjustmentRecoversWhatTheAnkleCannot) {
+  // Forward 40 N s and sideways (to the right, the swing foot's side) 30 N s: the ankle strategy
+  // alone recovers 35 and 25 N s (docs/stabilizer.md).
+  struct Case {
+    double impulse;
+    const char* direction;
+    Eigen::Vector2d along;
+  };
+  for (const Case& c : {Case{40, "1, 0, 0", {1, 0}}, Case{30, "0, -1, 0", {0, -1}}}) {
+    HumanoidSimulation ankle(
+        testing::load_humanoid_scene("default", pushed_walk(c.impulse, false, c.direction)));
+    const std::string failure = testing::run_to_stop(ankle);
+    std::printf("%.0f N s along (%s), ankle strategy only: %s\n", c.impulse, c.direction,
+                failure.c_str());
+    EXPECT_NE(failure.find("the robot fell"), std::string::npos) << failure;
+
+    HumanoidSimulation stepping(
+        testing::load_humanoid_scene("default", pushed_walk(c.impulse, true, c.direction)));
+    ASSERT_NO_THROW(stepping.run());
+    const HumanoidSummary& s = stepping.summary();
+    const walking::BalanceController& balance = *stepping.balance();
+    const Eigen::Vector2d shift = s.step_plan_shift;
+    // Where the feet ended against where the loop takes them to be (their sensed landings; the
+    // difference is the feet's slip after landing, which nothing senses).
+    const double right =
+        (s.final_right_sole.head<2>() - s.planned_right_sole.head<2>() - s.final_anchor_shifts[0])
+            .norm();
+    const double left =
+        (s.final_left_sole.head<2>() - s.planned_left_sole.head<2>() - s.final_anchor_shifts[1])
+            .norm();
+    // The robot ends over its feet: the true DCM against the feet's midpoint, inside the
+    // double support's box (x: the sole's half length; y: half the feet's distance plus the
+    // sole's half width).
+    const Eigen::Vector2d dcm = balance.reference_dcm() + balance.statistics().true_dcm_error;
+    const Eigen::Vector2d feet = (s.final_left_sole - s.final_right_sole).head<2>();
+    const Eigen::Vector2d off = dcm - 0.5 * (s.final_right_sole + s.final_left_sole).head<2>();
+    std::printf("with step adjustment: completes; %d landings moved, the largest by %.1f mm, the "
+                "landings up to %.1f mm from their targets, plan shifted by (%.1f, %.1f) mm; "
+                "soles %.2f, %.2f mm from their anchors; final true DCM (%.1f, %.1f) mm from the "
+                "feet's midpoint, max tilt %.2f deg\n",
+                s.adjusted_steps, s.max_step_adjustment * 1e3, s.max_landing_error * 1e3,
+                shift.x() * 1e3, shift.y() * 1e3, right * 1e3, left * 1e3, off.x() * 1e3,
+                off.y() * 1e3, s.max_waist_tilt * 180 / M_PI);
+    EXPECT_GE(s.adjusted_steps, 1);
+    EXPECT_GT(s.max_step_adjustment, 0.02);
+    EXPECT_LT(right, 0.07); // under the sole's half width (measured: up to 47 mm)
+    EXPECT_LT(left, 0.07);
+    EXPECT_LT(std::abs(off.x()), 0.1);
+    EXPECT_LT(std::abs(off.y()), 0.5 * std::abs(feet.y()) + 0.06);
+  }
+
+  // Unpushed, no landing moves and the walk is the same bit for bit.
+  HumanoidSimulation off(testing::load_humanoid_scene("default", pushed_walk(0, false)));
+  HumanoidSimulation on(testing::load_humanoid_scene("default", pushed_walk(0, true)));
+  ASSERT_NO_THROW(off.run());
+  ASSERT_NO_THROW(on.run());
+  EXPECT_EQ(on.summary().adjusted_steps, 0);
+  EXPECT_EQ(on.summary().max_step_adjustment, 0.0);
+  const TimeSeries &a = off.waist_series(), &b = on.waist_series();
+  ASSERT_EQ(a.n_rows(), b.n_rows());
+  int differing = 0;
+  for (int i = 0; i < a.n_rows(); ++i)
+    for (int j = 0; j < a.n_columns(); ++j)
+      differing += a(i, j) == b(i, j) ? 0 : 1;
+  EXPECT_EQ(differing, 0);
 }
 
 class StabilizedWalk : public ::testing::TestWithParam<const char*> {};
