@@ -7,8 +7,9 @@
 # search; rough_foothold_seeds.prm: the rigid feet and the compliant ankle on two more rough
 # grounds; rough_sole_stiffness.prm: the FEM sole from 4 MPa to 1 GPa on three rough grounds),
 # an unplanned 2 cm step (unplanned_step.prm) and the same step planned on (planned_step.prm);
-# the rough grounds and the unplanned step with step adjustment (*_stepping.prm) and the walk
-# pushed forward and sideways with and without it (push_walk.prm, push_walk_sideways.prm); then
+# the flat walks, the rough grounds and the unplanned step with step adjustment (*_stepping.prm)
+# and the walk pushed forward and sideways with and without it (push_walk.prm,
+# push_walk_sideways.prm); then
 # OUT_DIR/tables.md by table.py (outcome and figures per case).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -22,13 +23,15 @@ mkdir -p "$out"
 for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$root/bench/impact_convergence/walk_mesh.prm" "$here/rough.prm" "$here/rough_foothold.prm" \
   "$here/rough_foothold_seeds.prm" "$here/rough_sole_stiffness.prm" "$here/unplanned_step.prm" \
-  "$here/planned_step.prm" "$here/rough_stepping.prm" "$here/rough_foothold_stepping.prm" \
-  "$here/unplanned_step_stepping.prm" "$here/push_walk.prm" "$here/push_walk_sideways.prm"; do
+  "$here/planned_step.prm" "$here/flat_stepping.prm" "$here/rough_stepping.prm" \
+  "$here/rough_foothold_stepping.prm" "$here/unplanned_step_stepping.prm" "$here/push_walk.prm" \
+  "$here/push_walk_sideways.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
 done
 /usr/bin/python3 "$here/table.py" "$out/forms_dt_theta" "$out/sole_material" "$out/walk_mesh" \
   "$out/rough" "$out/rough_foothold" "$out/rough_foothold_seeds" "$out/rough_sole_stiffness" \
-  "$out/unplanned_step" "$out/planned_step" "$out/rough_stepping" "$out/rough_foothold_stepping" \
-  "$out/unplanned_step_stepping" "$out/push_walk" "$out/push_walk_sideways" >"$out/tables.md"
+  "$out/unplanned_step" "$out/planned_step" "$out/flat_stepping" "$out/rough_stepping" \
+  "$out/rough_foothold_stepping" "$out/unplanned_step_stepping" "$out/push_walk" \
+  "$out/push_walk_sideways" >"$out/tables.md"
 cat "$out/tables.md"
