@@ -545,8 +545,8 @@ const std::vector<ControlNumber>& control_numbers() {
       {"Max step adjustment inward", [](C& c) { return &c.balance.step.max_inward; }, 0, false,
        "m: clamp of a landing's move sideways, towards the stance foot."},
       {"Step adjustment CoP margin", [](C& c) { return &c.balance.step.cop_margin; }, 0, false,
-       "m: a landing moves once the desired ZMP leaves the stance sole's CoP region (CoP "
-       "margin) shrunk by this further."},
+       "m: a landing moves once the reference ZMP plus the DCM error leaves the stance sole's "
+       "CoP region (CoP margin) shrunk by this further (0: what the ankle can take, LIPM)."},
       {"Max step adjustment speed", [](C& c) { return &c.balance.step.max_target_speed; }, 0, true,
        "m/s: a landing target moves at most this fast."},
       {"Step adjustment freeze time", [](C& c) { return &c.balance.step.freeze_time; }, 0, false,

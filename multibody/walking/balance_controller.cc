@@ -144,20 +144,18 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     yaw[foot] << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
     touched[foot] = normal[foot] > parameters_.touchdown.force;
   }
-  // The step's ZMP deficit: the desired ZMP's offset from the reference, about the stance
-  // sole's centre (the filtered reference ZMP lags the transfer at lift-off).
+  // The step's deficit: the DCM error about the stance sole's centre (for the reference ZMP,
+  // whose filtered value lags the transfer at lift-off) beyond the sole's rectangle. Not its
+  // planned support polygon: that is the ground the unloaded sole touches, and a landing moved
+  // for it leaves the foothold the plan chose (docs/stabilizer.md).
   Eigen::Vector2d deficit = Eigen::Vector2d::Zero();
   const bool right_swings = swings_[0].progress >= 0, left_swings = swings_[1].progress >= 0;
   if (right_swings != left_swings) {
-    const StabilizerFoot& stance = feet_[right_swings ? 1 : 0];
-    if (stance.contact) {
-      // The point of the stance's CoP region nearest its centre (the centre on a whole sole).
-      const double margin = parameters_.step.cop_margin;
-      const Eigen::Vector2d centre = stance.position.head<2>();
-      const Eigen::Vector2d origin = centre - stabilizer_.cop_excess(stance, centre, margin);
-      deficit =
-          stabilizer_.cop_excess(stance, origin + stabilizer_.desired_zmp() - zmp_target_, margin);
-    }
+    StabilizerFoot stance = feet_[right_swings ? 1 : 0];
+    stance.support = nullptr;
+    if (stance.contact)
+      deficit = stabilizer_.cop_excess(stance, stance.position.head<2>() + statistics_.dcm_error,
+                                       parameters_.step.cop_margin);
   }
   std::array<Eigen::Vector2d, 2> sensed;
   for (int foot = 0; foot < 2; ++foot) {
@@ -168,8 +166,7 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
             : estimator_.soles()[foot];
     sensed[foot] = (sole - reference_soles_[foot]).head<2>();
   }
-  step_.update(swing_time_, swings_, yaw, touched, sensed, deficit, omega_,
-               1 + stabilizer_.parameters().dcm_gain / omega_, dt_);
+  step_.update(swing_time_, swings_, yaw, touched, sensed, deficit, omega_, 1.0, dt_);
   for (int foot = 0; foot < 2; ++foot) {
     const FootOffset& o = stabilizer_.offsets()[foot];
     multibody::frame_jacobian(model_, reference_data_, humanoid_.sole_frames[foot], jacobian_);

@@ -11,8 +11,8 @@
 // its F/T sensor reads more than the stabilizer's min_contact_force.
 // With touchdown adaptation on, each foot's height offset dz (touchdown_adaptation.h) moves its
 // reference sole (the contact test, the estimator's anchors and the leg offsets below).
-// With step adjustment on (step_adjustment.h; its ZMP deficit is the stance sole's excess of
-// c + p_d - p_ref, c the sole's centre, p_d - p_ref the stabilizer's ZMP offset; the plan's
+// With step adjustment on (step_adjustment.h; its deficit is the excess of c + xi - xi_ref over
+// the stance sole's rectangle, c the sole's centre, xi - xi_ref the estimated DCM error; the plan's
 // swings from set_planned_swings), the reference DCM and ZMP are translated by its shifts dxi and
 // dp, each reference sole by its anchor shift (the stabilizer's feet, the estimator's
 // anchors; the sensed landing, step_adjustment.h), each leg by its foot shift w_i and the

@@ -41,7 +41,7 @@ void StepAdjustment::update(double t, const std::array<PlannedSwing, 2>& swings,
                             const std::array<Eigen::Matrix2d, 2>& yaw,
                             const std::array<bool, 2>& touched,
                             const std::array<Eigen::Vector2d, 2>& sensed,
-                            const Eigen::Vector2d& deficit, double omega, double zmp_gain,
+                            const Eigen::Vector2d& deficit, double omega, double deficit_scale,
                             double dt) {
   const StepAdjustmentParameters& p = parameters_;
   deficit_ = deficit;
@@ -81,7 +81,7 @@ void StepAdjustment::update(double t, const std::array<PlannedSwing, 2>& swings,
     const double tau = std::max(s.touchdown_time - t, 0.0);
     if (p.enabled && tau > p.freeze_time && !touched[swing_]) {
       const Eigen::Vector2d step =
-          target_ - plan_ + p.gain * deficit / zmp_gain * std::exp(omega * tau);
+          target_ - plan_ + p.gain * deficit / deficit_scale * std::exp(omega * tau);
       Eigen::Vector2d local = yaw[swing_].transpose() * step;
       local.x() = std::clamp(local.x(), -p.max_forward, p.max_forward);
       // Right foot (0): outward is -y; left (1): +y.

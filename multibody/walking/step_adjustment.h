@@ -1,16 +1,19 @@
 #pragma once
-// Step adjustment: where the ankle strategy (dcm_stabilizer.h) cannot put the ZMP it wants, the
+// Step adjustment: where the ankle strategy (dcm_stabilizer.h) cannot bring the DCM back, the
 // swing foot lands elsewhere and the rest of the walk is translated with it (the capture-point
 // step strategy of Pratt et al. 2006 and Englsberger et al. 2011, on the linear inverted
 // pendulum xi' = omega (xi - p)).
 //   The plan's shift S (m, world x, y): every placement not yet reached is translated by S;
-//   a swing's landing target S_t starts at S at lift-off. In single support the desired ZMP
-//   p_d may leave the stance sole: d = the excess of c + p_d - p_ref over the stance sole's CoP
-//   region shrunk by cop_margin (c: the point of that region nearest the sole centre), the ZMP
-//   deficit (the balance loop). The part of the DCM error the ankle cannot take is
-//   d / (1 + k_p / omega); translating the landing by dS moves the reference DCM by
-//   dS exp(-omega tau) now (tau: time to the planned touchdown), so each period
-//     S_t <- S + clamp(S_t - S + k_s d / (1 + k_p / omega) exp(omega tau))
+//   a swing's landing target S_t starts at S at lift-off. With the error e = xi - xi_ref,
+//   e' = omega (e - (p - p_ref)): the ankle alone brings e back while p_ref + e lies in the
+//   stance sole's CoP region, and no ZMP there can for the excess d of p_ref + e over it. The
+//   balance loop gives d in single support (the excess of c + e over the sole's rectangle
+//   shrunk by cop_margin, c: the sole centre, for p_ref, which lags the transfer at lift-off),
+//   in DCM units; a caller with another deficit passes its ratio s to
+//   the DCM excess (e.g. 1 + k_p / omega for the desired ZMP's excess). Translating the landing
+//   by dS moves the reference DCM by dS exp(-omega tau) now (tau: time to the planned
+//   touchdown), so each period
+//     S_t <- S + clamp(S_t - S + k_s (d / s) exp(omega tau))
 //   (clamp: the landing's own axes, forward +-max_forward, sideways max_outward away from the
 //   stance foot and max_inward towards it; S_t moving at most max_target_speed dt per period),
 //   held for the last freeze_time of the swing and once the swing foot reads a touchdown.
@@ -39,9 +42,9 @@ struct StepAdjustmentParameters {
   double max_outward = 0.1; ///< m, >= 0: sideways, away from the stance foot
   double max_inward = 0.02; ///< m, >= 0: sideways, towards the stance foot
   double freeze_time = 0.1; ///< s, >= 0: before the planned touchdown the target is held
-  /// m, >= 0: the ZMP deficit is taken against the stance sole's CoP region shrunk by this
-  /// further (the balance loop): the step starts before the ankle saturates
-  double cop_margin = 0.03;
+  /// m, >= 0: the DCM deficit is taken against the stance sole's CoP region shrunk by this
+  /// further (the balance loop); 0: the LIPM's exact bound of what the ankle can take
+  double cop_margin = 0;
   /// m/s, > 0: the landing target moves at most this fast (an estimate's spike moves it little)
   double max_target_speed = 1.0;
   /// Newton steps of the legs to their offset soles (the balance loop), >= 0
@@ -68,12 +71,13 @@ public:
   /// @param yaw each reference sole's horizontal axes (2 x 2, world <- sole)
   /// @param touched each sole's F/T sensor reads a touchdown
   /// @param sensed each sole's offset from its plan as sensed (world x, y; m)
-  /// @param deficit the ZMP deficit d (world x, y; m)
-  /// @param omega sqrt(g / z_c), 1/s; @param zmp_gain 1 + k_p / omega
+  /// @param deficit the deficit d (world x, y; m)
+  /// @param omega sqrt(g / z_c), 1/s; @param deficit_scale s, d over the DCM excess (> 0; 1: d
+  /// is the DCM excess)
   void update(double t, const std::array<PlannedSwing, 2>& swings,
               const std::array<Eigen::Matrix2d, 2>& yaw, const std::array<bool, 2>& touched,
               const std::array<Eigen::Vector2d, 2>& sensed, const Eigen::Vector2d& deficit,
-              double omega, double zmp_gain, double dt);
+              double omega, double deficit_scale, double dt);
   /// w_i: where sole i's (0 right, 1 left) leg is asked to put it, relative to its plan
   /// (world x, y; m).
   const Eigen::Vector2d& foot_shift(int foot) const { return foot_[foot]; }

@@ -195,7 +195,6 @@ LipmWalk lipm_walk(bool adjust, const Eigen::Vector2d& push, double t_push) {
   ap.enabled = adjust;
   ap.max_forward = 0.25;
   StepAdjustment step(ap);
-  const double gain = 1 + sp.dcm_gain / omega;
   Eigen::Vector2d c = placement[0], cd = omega * (reference(0) - placement[0]);
   LipmWalk r;
   const int steps = static_cast<int>(std::lround(((n - 1) * T + 3) / dt));
@@ -219,16 +218,12 @@ LipmWalk lipm_walk(bool adjust, const Eigen::Vector2d& push, double t_push) {
       break;
     stabilizer.update(xi, target, placement[k] + step.zmp_shift(), feet, dt);
     const Eigen::Vector2d p = stabilizer.desired_zmp() - stabilizer.zmp_deficit();
-    // As the balance loop feeds it: the excess of the ZMP offset about the stance sole's centre
-    // (here the ZMP reference itself, so the same as the stabilizer's deficit).
-    const Eigen::Vector2d deficit = stabilizer.cop_excess(
-        feet[stance], feet[stance].position.head<2>() + stabilizer.desired_zmp() -
-                          (placement[k] + step.zmp_shift()));
-    if (step.foot_shift(stance) == step.zmp_shift()) { // not in the landing's first period
-      EXPECT_NEAR((deficit - stabilizer.zmp_deficit()).norm(), 0, 1e-15);
-    }
+    // As the balance loop feeds it: the DCM error about the stance sole's centre (here the ZMP
+    // reference itself) beyond the sole's CoP region, in DCM units.
+    const Eigen::Vector2d deficit =
+        stabilizer.cop_excess(feet[stance], feet[stance].position.head<2>() + (xi - target));
     step.update(t, swings, straight, {false, false}, {step.landing_target(), step.landing_target()},
-                deficit, omega, gain, dt);
+                deficit, omega, 1.0, dt);
     // Exact LIPM step at constant p.
     const double ch = std::cosh(omega * dt), sh = std::sinh(omega * dt);
     const Eigen::Vector2d x = c - p;
