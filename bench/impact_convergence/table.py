@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Convergence tables of the walk's impact figures (issue 23) from `plantar sweep` outputs.
 
-Usage: table.py SWEEP_DIR [SWEEP_DIR ...]   (prints Markdown tables)
+Usage: table.py [--landings-from T] SWEEP_DIR [SWEEP_DIR ...]   (prints Markdown tables)
 
 Per foot form (and per general axis value besides the one refined), the figures against the
 refined parameter (time step, or Sole/Mesh size), finest last:
@@ -9,6 +9,10 @@ refined parameter (time step, or Sole/Mesh size), finest last:
   F_max largest landing peak vertical force (summary max_landing_peak_force)
   F_med median landing peak force over the step landings (landings.csv, t >= t_step)
   J_med median landing impulse over the step landings (first 50 ms)
+  E_d   energy dissipated by the soles over the run (summary sole_dissipated_energy; only in
+        sweeps where a sole dissipates)
+The step landings are those from T = 1.6 s on (the first lift-off of scenes/walk.prm; a drop
+scene: --landings-from 0).
 Over the finest unbroken run of finished points, for each figure f_1, f_2, ... (coarse to fine, refinement ratio r between neighbours), the
 difference to the next d_k = f_k - f_(k+1) and the observed order p_k = log(d_k / d_(k+1)) /
 log(r) (only where d_k and d_(k+1) have the same sign); the error estimate of the finest value
@@ -21,6 +25,9 @@ import statistics
 import sys
 
 T_STEP = 1.6  # s: the first lift-off of scenes/walk.prm; earlier landings are the settling
+if len(sys.argv) > 2 and sys.argv[1] == "--landings-from":
+    T_STEP = float(sys.argv[2])
+    del sys.argv[1:3]
 
 
 def landings(directory):
@@ -63,6 +70,7 @@ def figures(sweep_dir, row):
         "J_med": statistics.median(impulses) if impulses else math.nan,
         "n": len(land),
         "loop": float(s["loop_wall_time"]),
+        "E_d": float(s.get("sole_dissipated_energy", "0") or 0),
     }, ""
 
 
@@ -109,7 +117,9 @@ def table(sweep_dir):
         key = (r["foot_form"],) + tuple(r[a] for a in others)
         groups.setdefault(key, []).append(r)
     names = ["a_f", "F_max", "F_med", "J_med"]
-    units = {"a_f": "m/s^2", "F_max": "N", "F_med": "N", "J_med": "N s"}
+    units = {"a_f": "m/s^2", "F_max": "N", "F_med": "N", "J_med": "N s", "E_d": "J"}
+    if any(float(r.get("sole_dissipated_energy") or 0) > 0 for r in rows):
+        names.append("E_d")
     print(f"### {os.path.basename(os.path.normpath(sweep_dir))}: refined {refined}\n")
     for key, group in groups.items():
         group.sort(key=lambda r: -float(r[refined]))
