@@ -10,8 +10,8 @@
 // foot: a moment M at the ground tilts it by M / k and moves its CoM by z_c M / k, which adds
 // the gravity moment m g z_c M / k. For k < m g z_c a CoP moved by the ankle moves the CoM
 // further the same way (the ankle strategy's sign reverses); above it, the ankle strategy keeps
-// the fraction 1 - m g z_c / k of its effect. The set A: the n nodes nearest the face's centre
-// (all nodes: the flat ground) and the table's three-node supports. A linear sole's K_A scales
+// the fraction 1 - m g z_c / k of its effect. The set A: the nodes within a disc about the centre
+// (all nodes: the flat ground) and three-node supports. A linear sole's K_A scales
 // with E, so the 4 MPa column gives every E. Prints tables; never passes or fails.
 // Usage: sole_tilt_stiffness_bench [supports.txt]
 // With a file, the 3 cm P1 sole's stiffness on each line's support instead: "t F n x_1 y_1 ...
@@ -25,7 +25,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <numeric>
 #include <sstream>
