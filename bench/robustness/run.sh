@@ -6,7 +6,8 @@
 # ground planned on it (rough.prm; rough_foothold.prm: with 9 x 9 contact grids and a foothold
 # search; rough_foothold_seeds.prm: the rigid feet and the compliant ankle on two more rough
 # grounds; rough_sole_stiffness.prm: the FEM sole from 4 MPa to 1 GPa on three rough grounds;
-# rough_foothold_timing.prm: every form on the three grounds with 0.6 / 0.2 s support times),
+# rough_foothold_timing.prm, rough_foothold_timing_short.prm: the three grounds with 0.6 / 0.2 s
+# and 0.5 / 0.3 s support times),
 # an unplanned 2 cm step (unplanned_step.prm) and the same step planned on (planned_step.prm);
 # the flat walks, the rough grounds and the unplanned step with step adjustment (*_stepping.prm)
 # and the walk pushed forward and sideways with and without it (push_walk.prm,
@@ -24,7 +25,8 @@ mkdir -p "$out"
 for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$root/bench/impact_convergence/walk_mesh.prm" "$here/rough.prm" "$here/rough_foothold.prm" \
   "$here/rough_foothold_seeds.prm" "$here/rough_sole_stiffness.prm" \
-  "$here/rough_foothold_timing.prm" "$here/unplanned_step.prm" \
+  "$here/rough_foothold_timing.prm" "$here/rough_foothold_timing_short.prm" \
+  "$here/unplanned_step.prm" \
   "$here/planned_step.prm" "$here/flat_stepping.prm" "$here/rough_stepping.prm" \
   "$here/rough_foothold_stepping.prm" "$here/unplanned_step_stepping.prm" "$here/push_walk.prm" \
   "$here/push_walk_sideways.prm"; do
@@ -33,7 +35,8 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
 done
 /usr/bin/python3 "$here/table.py" "$out/forms_dt_theta" "$out/sole_material" "$out/walk_mesh" \
   "$out/rough" "$out/rough_foothold" "$out/rough_foothold_seeds" "$out/rough_sole_stiffness" \
-  "$out/rough_foothold_timing"   "$out/unplanned_step" "$out/planned_step" "$out/flat_stepping" "$out/rough_stepping" \
+  "$out/rough_foothold_timing" "$out/rough_foothold_timing_short" "$out/unplanned_step" \
+  "$out/planned_step" "$out/flat_stepping" "$out/rough_stepping" \
   "$out/rough_foothold_stepping" "$out/unplanned_step_stepping" "$out/push_walk" \
   "$out/push_walk_sideways" >"$out/tables.md"
 cat "$out/tables.md"
