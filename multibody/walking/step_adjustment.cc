@@ -45,19 +45,37 @@ void StepAdjustment::update(double t, const std::array<PlannedSwing, 2>& swings,
                             double dt) {
   const StepAdjustmentParameters& p = parameters_;
   deficit_ = deficit;
-  // Landings first (the planned touchdown has passed), then lift-offs.
+  // A moved landing is where it was sensed, once its foot is down: at its planned touchdown,
+  // or on its touchdown when late (or at the next lift-off, if it never reads one).
+  auto land = [&](int foot) {
+    max_landing_error_ = std::max(max_landing_error_, (landing_ - target_).norm());
+    target_ = landing_;
+    anchor_[foot] = plan_ = target_;
+  };
+  const bool lifting =
+      (!swinging_[0] && swings[0].progress >= 0) || (!swinging_[1] && swings[1].progress >= 0);
+  if (late_ >= 0) {
+    if (touched[late_] || lifting) {
+      land(late_);
+      late_ = -1;
+    } else {
+      landing_ = sensed[late_];
+    }
+  }
+  // Landings (the planned touchdown has passed), then lift-offs.
   for (int foot = 0; foot < 2; ++foot)
     if (swinging_[foot] && swings[foot].progress < 0) {
       swinging_[foot] = false;
       const double adjustment = (target_ - plan_).norm();
       max_adjustment_ = std::max(max_adjustment_, adjustment);
       adjusted_ += adjustment > 1e-3;
-      foot_[foot] = target_;
-      if (p.enabled && adjustment > 1e-3) { // a moved landing is where it was sensed
-        max_landing_error_ = std::max(max_landing_error_, (landing_ - target_).norm());
-        target_ = landing_;
+      foot_[foot] = anchor_[foot] = plan_ = target_;
+      if (p.enabled && adjustment > 1e-3) {
+        if (touched[foot])
+          land(foot);
+        else
+          late_ = foot; // the target until it is down
       }
-      anchor_[foot] = plan_ = target_;
       if (swing_ == foot)
         swing_ = -1;
     }

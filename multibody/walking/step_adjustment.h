@@ -24,6 +24,8 @@
 //   unloaded) becomes the plan's shift at the planned touchdown, S <- m, and the foot's anchor
 //   (where the estimator and the stabilizer take it to be); its command relaxes from S_t to m with
 //   the time constant landing_time_constant while it is down (the waist moves back under the plan).
+//   A foot still unloaded at its planned touchdown (a late touchdown) is taken at its target,
+//   S <- S_t, until its sensor reads the touchdown (or the next swing lifts off), then S <- m.
 //   The reference's ZMP, DCM and CoM are translated by
 //     dp = S,  dxi = S + (S_t - S) exp(-omega tau) (S out of a swing),  dc' = omega (dxi - dc)
 //   (the bounded LIPM solution for the translated ZMP reference; dc exact per period).
@@ -105,6 +107,7 @@ private:
                   com_ = Eigen::Vector2d::Zero(), deficit_ = Eigen::Vector2d::Zero();
   std::array<bool, 2> swinging_{false, false};
   int swing_ = -1;
+  int late_ = -1; ///< a moved foot past its planned touchdown, not yet down
   int adjusted_ = 0;
   double max_adjustment_ = 0, max_landing_error_ = 0;
 };

@@ -72,11 +72,11 @@ TEST(StepAdjustment, OneUpdateAgainstHandValues) {
     step.update(0.905, swings, straight, {false, false}, sensed, Eigen::Vector2d(-1, 0), omega,
                 gain, dt);
     EXPECT_EQ(step.landing_target(), held);
-    // Landing: the plan's shift and the sole's anchor are the sensed landing; the leg's command
-    // leaves the target towards it.
+    // Landing, the foot down: the plan's shift and the sole's anchor are the sensed landing; the
+    // leg's command leaves the target towards it.
     swings[foot] = {-1, -1};
-    step.update(1.001, swings, straight, {false, false}, placed(step), Eigen::Vector2d(-1, 0),
-                omega, gain, dt);
+    step.update(1.001, swings, straight, touched, placed(step), Eigen::Vector2d(-1, 0), omega, gain,
+                dt);
     EXPECT_EQ(step.plan_shift(), landed);
     EXPECT_EQ(step.anchor_shift(foot), landed);
     EXPECT_EQ(step.dcm_shift(), landed);
@@ -85,6 +85,30 @@ TEST(StepAdjustment, OneUpdateAgainstHandValues) {
     EXPECT_EQ(step.adjusted_steps(), 1);
     EXPECT_NEAR(step.max_adjustment(), held.norm(), 1e-15);
     EXPECT_NEAR(step.max_landing_error(), std::hypot(0.003, 0.002), 1e-15);
+  }
+  // A late touchdown: at the planned touchdown the unloaded foot is taken at its target; its
+  // sensed landing becomes the plan's shift when its sensor reads the touchdown.
+  {
+    StepAdjustment late(p);
+    late.update(0.4, {PlannedSwing{0.5, 1.0}, PlannedSwing{}}, straight, {false, false},
+                placed(late), Eigen::Vector2d(0.01, 0), omega, gain, dt);
+    const Eigen::Vector2d target = late.landing_target();
+    ASSERT_GT(target.norm(), 1e-3);
+    late.update(1.001, {PlannedSwing{}, PlannedSwing{}}, straight, {false, false}, placed(late),
+                Eigen::Vector2d::Zero(), omega, gain, dt);
+    EXPECT_EQ(late.plan_shift(), target);
+    EXPECT_EQ(late.anchor_shift(0), target);
+    EXPECT_EQ(late.dcm_shift(), target);
+    const Eigen::Vector2d down = target + Eigen::Vector2d(-0.004, 0.001);
+    late.update(1.002, {PlannedSwing{}, PlannedSwing{}}, straight, {false, false},
+                {down, Eigen::Vector2d::Zero()}, Eigen::Vector2d::Zero(), omega, gain, dt);
+    EXPECT_EQ(late.plan_shift(), target);
+    late.update(1.003, {PlannedSwing{}, PlannedSwing{}}, straight, {true, false},
+                {down + Eigen::Vector2d(0.01, 0), Eigen::Vector2d::Zero()}, Eigen::Vector2d::Zero(),
+                omega, gain, dt);
+    EXPECT_EQ(late.plan_shift(), down);
+    EXPECT_EQ(late.anchor_shift(0), down);
+    EXPECT_NEAR(late.max_landing_error(), std::hypot(0.004, 0.001), 1e-15);
   }
   // A rotated landing sole: the clamp acts in its axes.
   StepAdjustment step(p);
