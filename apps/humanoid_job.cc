@@ -114,6 +114,10 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
         << s.max_step_adjustment * 1e3 << " mm; the plan's shift at the end ("
         << s.step_plan_shift.x() * 1e3 << ", " << s.step_plan_shift.y() * 1e3
         << ") mm; landings up to " << s.max_landing_error * 1e3 << " mm from their targets\n";
+  if (scene.control.balance.timing.enabled)
+    out << "step timing: " << s.shortened_swings << " swings shortened, the reference up to "
+        << s.max_timing_rate << " times the plan's rate, " << s.timing_advance * 1e3
+        << " ms ahead at the end\n";
   out << "right sole at the end: " << s.final_right_sole.transpose() << " m (planned "
       << s.planned_right_sole.transpose() << ")\n"
       << "left sole at the end: " << s.final_left_sole.transpose() << " m (planned "
@@ -231,6 +235,9 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "adjusted_steps," << s.adjusted_steps << "\n"
         << "max_step_adjustment," << s.max_step_adjustment << "\n"
         << "max_landing_error," << s.max_landing_error << "\n"
+        << "shortened_swings," << s.shortened_swings << "\n"
+        << "max_timing_rate," << s.max_timing_rate << "\n"
+        << "timing_advance," << s.timing_advance << "\n"
         << "sole_thickness," << s.sole_thickness << "\n"
         << "n_solves," << s.n_solves << "\n"
         << "n_direct_solves," << s.n_direct_solves << "\n"

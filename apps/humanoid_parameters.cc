@@ -551,6 +551,14 @@ const std::vector<ControlNumber>& control_numbers() {
        "m/s: a landing target moves at most this fast."},
       {"Step adjustment freeze time", [](C& c) { return &c.balance.step.freeze_time; }, 0, false,
        "s: over the last this much of a swing the landing is held."},
+      {"Step timing time constant", [](C& c) { return &c.balance.timing.time_constant; }, 0, true,
+       "T_t, s: Step timing: the reference runs at 1 + lambda / T_t, lambda the time by which it "
+       "must move ahead to take the DCM deficit along its motion (docs/stabilizer.md)."},
+      {"Max step timing rate", [](C& c) { return &c.balance.timing.max_rate; }, 1, false,
+       "Step timing: the reference runs at most this many times as fast as the plan."},
+      {"Step timing freeze time", [](C& c) { return &c.balance.timing.freeze_time; }, 0, false,
+       "s: over the last this much of a swing (reference time) the reference runs at the plan's "
+       "rate."},
       {"IMU orientation noise", [](C& c) { return &c.balance.sensors.orientation.noise; }, 0, false,
        "rad, standard deviation of the IMU orientation's white noise (rotation vector)."},
       {"IMU orientation bias", [](C& c) { return &c.balance.sensors.orientation.bias; }, -1e300,
@@ -603,6 +611,10 @@ void ControlParameters::declare(dealii::ParameterHandler& prm) {
                     "Stabilizer = dcm: where the stance sole cannot take the desired ZMP, the "
                     "swing foot lands elsewhere and the rest of the walk is translated with it "
                     "(multibody/walking/step_adjustment.h).");
+  prm.declare_entry("Step timing", d.balance.timing.enabled ? "true" : "false", Bool(),
+                    "Stabilizer = dcm: where the stance sole cannot take the DCM error along the "
+                    "reference's motion, the reference runs faster and the swing foot lands "
+                    "earlier (multibody/walking/step_timing.h).");
   prm.declare_entry("Step adjustment leg iterations", std::to_string(d.balance.step.leg_iterations),
                     Integer(0, 10),
                     "Step adjustment: Newton steps bringing each leg to its offset sole pose "
@@ -635,6 +647,7 @@ void ControlParameters::parse(dealii::ParameterHandler& prm) {
   balance.touchdown.enabled = prm.get_bool("Touchdown adaptation");
   balance.step.enabled = prm.get_bool("Step adjustment");
   balance.step.leg_iterations = prm.get_integer("Step adjustment leg iterations");
+  balance.timing.enabled = prm.get_bool("Step timing");
   require(balance.step.gain <= 2, "Control/Step adjustment gain", balance.step.gain, "in [0, 2]");
   balance.sensors.delay = prm.get_integer("Sensor delay");
   require(balance.sensors.delay >= 0 && balance.sensors.delay <= 1000, "Control/Sensor delay",

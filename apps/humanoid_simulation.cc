@@ -280,7 +280,8 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
                                   "plan_shift_x",
                                   "plan_shift_y",
                                   "landing_shift_x",
-                                  "landing_shift_y"},
+                                  "landing_shift_y",
+                                  "reference_time"},
                                  rows);
   unconverged_ = UnconvergedSolves(n_steps_);
   const double bandwidth = scene_.output.accelerometer_bandwidth;
@@ -331,7 +332,9 @@ void HumanoidSimulation::step() {
   if (step_ >= n_steps_)
     return;
   const double dt = summary_.time_step;
-  const double t_next = (step_ + 1) * dt;
+  // The reference's time: the plan's, run faster by the step timing (step_timing.h).
+  const double t_next = (step_ + 1) * dt + (balance_ ? balance_->step_timing().advance() : 0.0);
+  reference_time_ = t_next;
   reference_at(t_next, q_ref_);
   if (balance_) {
     foot_model_->set_reference_state(t_next, q_ref_);
@@ -352,6 +355,10 @@ void HumanoidSimulation::step() {
     summary_.max_step_adjustment = balance_->step_adjustment().max_adjustment();
     summary_.step_plan_shift = balance_->step_adjustment().plan_shift();
     summary_.max_landing_error = balance_->step_adjustment().max_landing_error();
+    const walking::StepTiming& timing = balance_->step_timing();
+    summary_.shortened_swings = timing.shortened_swings();
+    summary_.max_timing_rate = timing.max_rate();
+    summary_.timing_advance = timing.advance();
     for (int foot = 0; foot < 2; ++foot)
       summary_.final_anchor_shifts[foot] = balance_->step_adjustment().anchor_shift(foot);
     const walking::TouchdownAdaptation& touchdown = balance_->touchdown();
@@ -596,7 +603,7 @@ void HumanoidSimulation::step() {
         zmp_ref.y(), zmp_desired.x(), zmp_desired.y(), com.x(), com.y(), com.z(), offsets[0].roll,
         offsets[0].pitch, offsets[0].height, offsets[1].roll, offsets[1].pitch, offsets[1].height,
         deficit.x(), deficit.y(), steps.plan_shift().x(), steps.plan_shift().y(),
-        steps.landing_target().x(), steps.landing_target().y();
+        steps.landing_target().x(), steps.landing_target().y(), reference_time_;
   }
   for (int i = 0; i < pads_->size(); ++i) {
     const PadReport& pad = pad_reports_[i];

@@ -134,6 +134,7 @@ private:
   Scene scene_;
   std::unique_ptr<FootModel> foot_model_;
   double lift_ = 0;
+  double reference_time_ = 0; ///< s, the time q_ref_ was sampled at (step timing: ahead of t)
   multibody::Model model_;
   multibody::Model reference_model_;     ///< the robot without compliant ankles (the reference's)
   walking::Humanoid humanoid_;           ///< resolved on model_

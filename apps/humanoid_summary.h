@@ -67,6 +67,9 @@ struct HumanoidSummary {
   double max_step_adjustment = 0;                            ///< m, largest move of one landing
   Eigen::Vector2d step_plan_shift = Eigen::Vector2d::Zero(); ///< m, the plan's shift S at the end
   double max_landing_error = 0; ///< m, largest |sensed landing - target| of a moved foot
+  int shortened_swings = 0;     ///< step timing: swings whose reference ran faster
+  double max_timing_rate = 1;   ///< step timing: the largest rate of the reference
+  double timing_advance = 0;    ///< s, step timing: t_ref - t at the end
   /// m, each sole's (right, left) anchor shift at the end: where the loop takes it to be
   std::array<Eigen::Vector2d, 2> final_anchor_shifts{Eigen::Vector2d::Zero(),
                                                      Eigen::Vector2d::Zero()};

@@ -31,7 +31,8 @@ BalanceController::BalanceController(const multibody::Model& model, const Humano
       sensors_(model, parameters.sensors),
       estimator_(model, humanoid, parameters.sensors.imu_frame, parameters.estimator, dt),
       stabilizer_(parameters.stabilizer), touchdown_(parameters.touchdown), step_(parameters.step),
-      reference_data_(model), true_data_(model), leg_data_(model), jacobian_(6, model.nv) {
+      timing_(parameters.timing), reference_data_(model), true_data_(model), leg_data_(model),
+      jacobian_(6, model.nv) {
   if (!(parameters.zmp_time_constant > 0 && parameters.contact_height > 0))
     throw std::invalid_argument("BalanceController: ZMP time constant and contact height > 0");
   for (int foot = 0; foot < 2; ++foot) {
@@ -58,6 +59,7 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     stabilizer_ = DcmStabilizer(p);
   }
   multibody::forward_kinematics(model_, reference_data_, q_ref);
+  // Over real time: a faster reference (step timing) has a faster DCM.
   const Eigen::Vector3d com_ref = multibody::center_of_mass(model_, reference_data_);
   const Eigen::Vector3d com_ref_velocity =
       first_ ? Eigen::Vector3d::Zero() : Eigen::Vector3d((com_ref - com_ref_) / dt_);
@@ -167,6 +169,8 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     sensed[foot] = (sole - reference_soles_[foot]).head<2>();
   }
   step_.update(swing_time_, swings_, yaw, touched, sensed, deficit, omega_, 1.0, dt_);
+  timing_.update(swing_time_, swings_, touched, statistics_.dcm_error, deficit,
+                 omega_ * (dcm_target_ - zmp_target_), dt_);
   for (int foot = 0; foot < 2; ++foot) {
     const FootOffset& o = stabilizer_.offsets()[foot];
     multibody::frame_jacobian(model_, reference_data_, humanoid_.sole_frames[foot], jacobian_);

@@ -17,6 +17,11 @@
 // dp, each reference sole by its anchor shift (the stabilizer's feet, the estimator's
 // anchors; the sensed landing, step_adjustment.h), each leg by its foot shift w_i and the
 // waist by the CoM shift dc.
+// With step timing on (step_timing.h; the same deficit and DCM error, v = omega (xi_ref -
+// p_ref) translated as above), the caller plays the reference at the rate step_timing().rate()
+// (its times in set_planned_swings are reference times); c_ref' stays the finite difference
+// over dt, the reference as played: xi_ref = c + r dc/dt_ref / omega, and p_ref holds the
+// reference's acceleration r^2 d2c/dt_ref^2 + r' dc/dt_ref.
 // Foot offsets become joint references through each leg's Jacobian at q_ref (sole frame,
 // world-aligned axes, the leg's 6 joints): dq_leg = J_leg^-1 [w_i - dc, z, R_sole (roll,
 // pitch, 0)], z the force difference offset plus dz, added to q_ref's leg joints; with step
@@ -32,6 +37,7 @@
 #include "multibody/walking/dcm_stabilizer.h"
 #include "multibody/walking/humanoid.h"
 #include "multibody/walking/step_adjustment.h"
+#include "multibody/walking/step_timing.h"
 #include "multibody/walking/touchdown_adaptation.h"
 
 #include <Eigen/Core>
@@ -58,6 +64,8 @@ struct BalanceParameters {
   TouchdownParameters touchdown;
   /// Where the swing foot lands (step_adjustment.h).
   StepAdjustmentParameters step;
+  /// When the swing foot lands (step_timing.h).
+  StepTimingParameters timing;
 };
 
 /// Running figures of the loop (for summaries and tests).
@@ -102,6 +110,8 @@ public:
   const DcmStabilizer& stabilizer() const { return stabilizer_; }
   const TouchdownAdaptation& touchdown() const { return touchdown_; }
   const StepAdjustment& step_adjustment() const { return step_; }
+  /// The reference's rate r for the next period and its advance t_ref - t (step_timing.h).
+  const StepTiming& step_timing() const { return timing_; }
   double omega() const { return omega_; }
   /// xi_ref (x, y; m), translated by the step adjustment's dxi
   const Eigen::Vector2d& reference_dcm() const { return dcm_target_; }
@@ -119,6 +129,7 @@ private:
   DcmStabilizer stabilizer_;
   TouchdownAdaptation touchdown_;
   StepAdjustment step_;
+  StepTiming timing_;
   std::array<PlannedSwing, 2> swings_{};
   double swing_time_ = 0;
   multibody::Data reference_data_, true_data_, leg_data_;

@@ -7,6 +7,9 @@
 // - step adjustment (multibody/walking/step_adjustment.h): the rigid walk pushed forward in
 //   its third single support by 40 N s (sideways by 30 N s) falls with the ankle strategy alone
 //   and completes when the landings move; unpushed, turning it on changes nothing (bit for bit);
+// - step timing (multibody/walking/step_timing.h): pushed forward by 50 N s, the walk falls with
+//   step adjustment alone and completes when the swings also land earlier; unpushed, turning it
+//   on changes nothing (bit for bit);
 // - Stabilizer = none is the PD playback bit for bit: the first 2 s of the rigid walk's waist
 //   series equal (==, 17 digits) those recorded by `plantar run` with Stabilizer = none
 //   (tests/apps/data/walk_rigid_2s_waist_tree.csv), sensor noise set or not. The recording
@@ -51,13 +54,14 @@ std::vector<std::vector<double>> read_numbers(const std::string& path) {
 /// The default walk on rigid feet at dt = 1 ms, theta = 1, touchdown adaptation on, pushed on
 /// the waist along @p direction by @p impulse (N s over 0.1 s from t = 3.5 s, in the third
 /// single support: the right foot swings, 0.48 s before its planned touchdown).
-std::vector<std::pair<std::string, std::string>> pushed_walk(double impulse, bool adjust,
-                                                             const char* direction = "1, 0, 0") {
+std::vector<std::pair<std::string, std::string>>
+pushed_walk(double impulse, bool adjust, const char* direction = "1, 0, 0", bool timing = false) {
   return {{"Robot/Foot form", "rigid"},
           {"Simulation/Time step", "0.001"},
           {"Simulation/Theta", "1"},
           {"Control/Touchdown adaptation", "true"},
           {"Control/Step adjustment", adjust ? "true" : "false"},
+          {"Control/Step timing", timing ? "true" : "false"},
           {"Simulation/Push time", "3.5"},
           {"Simulation/Push direction", direction},
           {"Simulation/Push magnitude", std::to_string(impulse)},
@@ -177,8 +181,9 @@ TEST(StabilizerLoop, StepAllocatesNothing) {
 }
 
 TEST(StabilizerLoop, PushedStepAdjustingWalkAllocatesNothing) {
-  // The pushed walk with step adjustment over the push and the moved landing (3.2-4.1 s).
-  auto overrides = pushed_walk(40, true);
+  // The pushed walk with step adjustment and step timing over the push, the shortened swing
+  // and the moved landing (3.2-4.1 s).
+  auto overrides = pushed_walk(40, true, "1, 0, 0", true);
   overrides.push_back({"Simulation/Duration", "4.1"});
   HumanoidSimulation sim(testing::load_humanoid_scene("default", overrides));
   while (sim.steps_done() < 3200)
@@ -187,11 +192,14 @@ TEST(StabilizerLoop, PushedStepAdjustingWalkAllocatesNothing) {
     while (sim.steps_done() < sim.n_steps())
       sim.step();
   });
-  std::printf("pushed walk with step adjustment: %ld allocations in %d steps, %d landings moved\n",
-              count.during, sim.n_steps() - 3200, sim.summary().adjusted_steps);
+  std::printf("pushed walk with step adjustment and timing: %ld allocations in %d steps, %d "
+              "landings moved, %d swings shortened\n",
+              count.during, sim.n_steps() - 3200, sim.summary().adjusted_steps,
+              sim.summary().shortened_swings);
   EXPECT_TRUE(count.counter_works);
   EXPECT_EQ(count.during, 0);
   EXPECT_GE(sim.summary().adjusted_steps, 1);
+  EXPECT_GE(sim.summary().shortened_swings, 1);
 }
 
 TEST(StabilizerScene, BadEntriesAreNamed) {
@@ -219,6 +227,9 @@ TEST(StabilizerScene, BadEntriesAreNamed) {
   const std::string speed = message({{"Control/Max step adjustment speed", "0"}});
   std::printf("%s\n", speed.c_str());
   EXPECT_NE(speed.find("Control/Max step adjustment speed = 0"), std::string::npos) << speed;
+  const std::string timing = message({{"Control/Step timing time constant", "0"}});
+  std::printf("%s\n", timing.c_str());
+  EXPECT_NE(timing.find("Control/Step timing time constant = 0"), std::string::npos) << timing;
   const std::string damping = message({{"Control/Foot damping", "0"}});
   std::printf("%s\n", damping.c_str());
   EXPECT_NE(damping.find("Control/Foot damping = 0"), std::string::npos) << damping;
@@ -288,6 +299,54 @@ TEST(PushedWalk, StepAdjustmentRecoversWhatTheAnkleCannot) {
   EXPECT_EQ(on.summary().adjusted_steps, 0);
   EXPECT_EQ(on.summary().max_step_adjustment, 0.0);
   const TimeSeries &a = off.waist_series(), &b = on.waist_series();
+  ASSERT_EQ(a.n_rows(), b.n_rows());
+  int differing = 0;
+  for (int i = 0; i < a.n_rows(); ++i)
+    for (int j = 0; j < a.n_columns(); ++j)
+      differing += a(i, j) == b(i, j) ? 0 : 1;
+  EXPECT_EQ(differing, 0);
+}
+
+TEST(PushedWalk, StepTimingAddsToStepAdjustment) {
+  // Forward 50 N s: step adjustment alone falls (it recovers 45 N s); with step timing too the
+  // swing lands earlier as well as further, and the walk completes (it recovers 55 N s;
+  // docs/stabilizer.md).
+  HumanoidSimulation placed(testing::load_humanoid_scene("default", pushed_walk(50, true)));
+  const std::string failure = testing::run_to_stop(placed);
+  std::printf("50 N s forward, step adjustment only: %s\n", failure.c_str());
+  EXPECT_NE(failure.find("the robot fell"), std::string::npos) << failure;
+
+  HumanoidSimulation timed(
+      testing::load_humanoid_scene("default", pushed_walk(50, true, "1, 0, 0", true)));
+  ASSERT_NO_THROW(timed.run());
+  const HumanoidSummary& s = timed.summary();
+  const walking::BalanceController& balance = *timed.balance();
+  const Eigen::Vector2d dcm = balance.reference_dcm() + balance.statistics().true_dcm_error;
+  const Eigen::Vector2d feet = (s.final_left_sole - s.final_right_sole).head<2>();
+  const Eigen::Vector2d off = dcm - 0.5 * (s.final_right_sole + s.final_left_sole).head<2>();
+  std::printf("with step timing too: completes; %d swings shortened, the reference up to %.2f "
+              "times the plan's rate, %.0f ms ahead at the end; %d landings moved, the largest "
+              "by %.1f mm; final true DCM (%.1f, %.1f) mm from the feet's midpoint\n",
+              s.shortened_swings, s.max_timing_rate, s.timing_advance * 1e3, s.adjusted_steps,
+              s.max_step_adjustment * 1e3, off.x() * 1e3, off.y() * 1e3);
+  EXPECT_GE(s.shortened_swings, 1);
+  EXPECT_GT(s.max_timing_rate, 1.1);
+  // The plan's remaining steps were played earlier by at least 10 ms of the 0.38 s left of the
+  // pushed swing after its freeze time.
+  EXPECT_GT(s.timing_advance, 0.01);
+  EXPECT_GE(s.adjusted_steps, 1);
+  EXPECT_LT(std::abs(off.x()), 0.1);
+  EXPECT_LT(std::abs(off.y()), 0.5 * std::abs(feet.y()) + 0.06);
+
+  // Unpushed, the ankle takes every error: the reference keeps the plan's time, bit for bit.
+  HumanoidSimulation off_run(testing::load_humanoid_scene("default", pushed_walk(0, false)));
+  HumanoidSimulation on_run(
+      testing::load_humanoid_scene("default", pushed_walk(0, false, "1, 0, 0", true)));
+  ASSERT_NO_THROW(off_run.run());
+  ASSERT_NO_THROW(on_run.run());
+  EXPECT_EQ(on_run.summary().shortened_swings, 0);
+  EXPECT_EQ(on_run.summary().timing_advance, 0.0);
+  const TimeSeries &a = off_run.waist_series(), &b = on_run.waist_series();
   ASSERT_EQ(a.n_rows(), b.n_rows());
   int differing = 0;
   for (int i = 0; i < a.n_rows(); ++i)
