@@ -6,6 +6,7 @@
 // with it the walk recovers.
 #include "multibody/walking/dcm_stabilizer.h"
 #include "multibody/walking/step_adjustment.h"
+#include "tests/multibody/walking/lipm_walk_plan.h"
 
 #include <gtest/gtest.h>
 
@@ -194,24 +195,8 @@ struct LipmWalk {
   double max_adjustment = 0;
 };
 LipmWalk lipm_walk(bool adjust, const Eigen::Vector2d& push, double t_push) {
-  const int n = 10;
-  const double T = 0.8, dt = 1e-3;
-  std::vector<Eigen::Vector2d> placement(n);
-  for (int k = 0; k < n; ++k)
-    placement[k] << 0.2 * k, k % 2 == 0 ? -0.1 : 0.1;
-  // Reference DCM at the end of each stance (backward recursion; the last stance: at rest).
-  std::vector<Eigen::Vector2d> dcm_end(n);
-  dcm_end[n - 1] = placement[n - 1];
-  for (int k = n - 2; k >= 0; --k)
-    dcm_end[k] = placement[k + 1] + (dcm_end[k + 1] - placement[k + 1]) * std::exp(-omega * T);
-  auto stance_of = [&](double t) { return std::min(n - 1, static_cast<int>(t / T + 1e-9)); };
-  auto reference = [&](double t) {
-    const int k = stance_of(t);
-    if (k == n - 1)
-      return placement[k];
-    return Eigen::Vector2d(placement[k] +
-                           (dcm_end[k] - placement[k]) * std::exp(omega * (t - (k + 1) * T)));
-  };
+  const testing::LipmWalkPlan plan(omega);
+  const double dt = 1e-3;
   DcmStabilizerParameters sp;
   sp.omega = omega;
   DcmStabilizer stabilizer(sp);
@@ -219,28 +204,28 @@ LipmWalk lipm_walk(bool adjust, const Eigen::Vector2d& push, double t_push) {
   ap.enabled = adjust;
   ap.max_forward = 0.25;
   StepAdjustment step(ap);
-  Eigen::Vector2d c = placement[0], cd = omega * (reference(0) - placement[0]);
+  Eigen::Vector2d c = plan.placement[0], cd = omega * (plan.dcm(0) - plan.placement[0]);
   LipmWalk r;
-  const int steps = static_cast<int>(std::lround(((n - 1) * T + 3) / dt));
+  const int steps = static_cast<int>(std::lround(((plan.n - 1) * plan.T + 3) / dt));
   for (int i = 0; i < steps; ++i) {
     const double t = i * dt;
-    const int k = stance_of(t);
+    const int k = plan.stance_of(t);
     const int stance = k % 2, swing = 1 - stance;
     std::array<StabilizerFoot, 2> feet;
-    feet[stance].position.head<2>() = placement[k] + step.foot_shift(stance);
+    feet[stance].position.head<2>() = plan.placement[k] + step.foot_shift(stance);
     feet[stance].contact = true;
     feet[stance].force << 0, 0, 600;
     std::array<PlannedSwing, 2> swings;
-    if (k < n - 1)
-      swings[swing] = {(t - k * T) / T, (k + 1) * T};
-    const Eigen::Vector2d target = reference(t) + step.dcm_shift();
+    if (k < plan.n - 1)
+      swings[swing] = {(t - k * plan.T) / plan.T, (k + 1) * plan.T};
+    const Eigen::Vector2d target = plan.dcm(t) + step.dcm_shift();
     const Eigen::Vector2d xi = c + cd / omega;
     const double error = (xi - target).norm();
     r.max_error = std::max(r.max_error, std::min(error, 1.0));
     r.final_error = error;
     if (error > 1)
       break;
-    stabilizer.update(xi, target, placement[k] + step.zmp_shift(), feet, dt);
+    stabilizer.update(xi, target, plan.placement[k] + step.zmp_shift(), feet, dt);
     const Eigen::Vector2d p = stabilizer.desired_zmp() - stabilizer.zmp_deficit();
     // As the balance loop feeds it: the DCM error about the stance sole's centre (here the ZMP
     // reference itself) beyond the sole's CoP region, in DCM units.
@@ -248,11 +233,7 @@ LipmWalk lipm_walk(bool adjust, const Eigen::Vector2d& push, double t_push) {
         stabilizer.cop_excess(feet[stance], feet[stance].position.head<2>() + (xi - target));
     step.update(t, swings, straight, {false, false}, {step.landing_target(), step.landing_target()},
                 deficit, omega, 1.0, dt);
-    // Exact LIPM step at constant p.
-    const double ch = std::cosh(omega * dt), sh = std::sinh(omega * dt);
-    const Eigen::Vector2d x = c - p;
-    c = p + x * ch + cd * sh / omega;
-    cd = x * omega * sh + cd * ch;
+    plan.lipm_step(c, cd, p, dt);
     if (std::abs(t + dt - t_push) < 0.5 * dt)
       cd += push;
   }

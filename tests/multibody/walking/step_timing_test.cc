@@ -6,6 +6,7 @@
 // error diverges; with it the feet land earlier, where the plan put them, and the walk recovers.
 #include "multibody/walking/dcm_stabilizer.h"
 #include "multibody/walking/step_timing.h"
+#include "tests/multibody/walking/lipm_walk_plan.h"
 
 #include <gtest/gtest.h>
 
@@ -107,47 +108,32 @@ struct LipmWalk {
   int shortened = 0;
 };
 LipmWalk lipm_walk(bool timed, const Eigen::Vector2d& push, double t_push) {
-  const int n = 10;
-  const double T = 0.8, dt = 1e-3;
-  std::vector<Eigen::Vector2d> placement(n);
-  for (int k = 0; k < n; ++k)
-    placement[k] << 0.2 * k, k % 2 == 0 ? -0.1 : 0.1;
-  std::vector<Eigen::Vector2d> dcm_end(n);
-  dcm_end[n - 1] = placement[n - 1];
-  for (int k = n - 2; k >= 0; --k)
-    dcm_end[k] = placement[k + 1] + (dcm_end[k + 1] - placement[k + 1]) * std::exp(-omega * T);
-  auto stance_of = [&](double t) { return std::min(n - 1, static_cast<int>(t / T + 1e-9)); };
-  auto reference = [&](double t) {
-    const int k = stance_of(t);
-    if (k == n - 1)
-      return placement[k];
-    return Eigen::Vector2d(placement[k] +
-                           (dcm_end[k] - placement[k]) * std::exp(omega * (t - (k + 1) * T)));
-  };
+  const testing::LipmWalkPlan plan(omega);
+  const double dt = 1e-3;
   DcmStabilizerParameters sp;
   sp.omega = omega;
   DcmStabilizer stabilizer(sp);
   StepTimingParameters tp;
   tp.enabled = timed;
   StepTiming timing(tp);
-  Eigen::Vector2d c = placement[0], cd = omega * (reference(0) - placement[0]);
+  Eigen::Vector2d c = plan.placement[0], cd = omega * (plan.dcm(0) - plan.placement[0]);
   // The plan's CoM at t_ref (c' = omega (xi - c) along the plan, stepped by dt r).
   Eigen::Vector2d c_plan = c;
   LipmWalk r;
-  const int steps = static_cast<int>(std::lround(((n - 1) * T + 3) / dt));
+  const int steps = static_cast<int>(std::lround(((plan.n - 1) * plan.T + 3) / dt));
   for (int i = 0; i < steps; ++i) {
     const double t = i * dt, t_ref = t + timing.advance();
-    const int k = stance_of(t_ref); // the feet land when the reference says
+    const int k = plan.stance_of(t_ref); // the feet land when the reference says
     const int stance = k % 2, swing = 1 - stance;
     std::array<StabilizerFoot, 2> feet;
-    feet[stance].position.head<2>() = placement[k];
+    feet[stance].position.head<2>() = plan.placement[k];
     feet[stance].contact = true;
     feet[stance].force << 0, 0, 600;
     std::array<PlannedSwing, 2> swings;
-    if (k < n - 1)
-      swings[swing] = {(t_ref - k * T) / T, (k + 1) * T};
+    if (k < plan.n - 1)
+      swings[swing] = {(t_ref - k * plan.T) / plan.T, (k + 1) * plan.T};
     // The reference as played at the rate r: its DCM c + r dc/dt_ref / omega.
-    const Eigen::Vector2d xi_plan = reference(t_ref);
+    const Eigen::Vector2d xi_plan = plan.dcm(t_ref);
     const Eigen::Vector2d target = c_plan + timing.rate() * (xi_plan - c_plan);
     const Eigen::Vector2d xi = c + cd / omega;
     const double error = (xi - target).norm();
@@ -155,18 +141,15 @@ LipmWalk lipm_walk(bool timed, const Eigen::Vector2d& push, double t_push) {
     r.final_error = error;
     if (error > 1)
       break;
-    stabilizer.update(xi, target, placement[k], feet, dt);
+    stabilizer.update(xi, target, plan.placement[k], feet, dt);
     const Eigen::Vector2d p = stabilizer.desired_zmp() - stabilizer.zmp_deficit();
     const Eigen::Vector2d deficit =
         stabilizer.cop_excess(feet[stance], feet[stance].position.head<2>() + (xi - target));
     // The reference's DCM velocity, omega (xi_ref - p_ref) (p_ref: the stance foot).
     c_plan += omega * (xi_plan - c_plan) * (timing.rate() * dt);
     timing.update(t_ref, swings, {false, false}, xi - target, deficit,
-                  omega * (target - placement[k]), dt);
-    const double ch = std::cosh(omega * dt), sh = std::sinh(omega * dt);
-    const Eigen::Vector2d x = c - p;
-    c = p + x * ch + cd * sh / omega;
-    cd = x * omega * sh + cd * ch;
+                  omega * (target - plan.placement[k]), dt);
+    plan.lipm_step(c, cd, p, dt);
     if (std::abs(t + dt - t_push) < 0.5 * dt)
       cd += push;
   }
