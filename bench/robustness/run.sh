@@ -12,9 +12,9 @@
 # the flat walks, the rough grounds and the unplanned step with step adjustment (*_stepping.prm)
 # and the walk pushed forward and sideways with and without it (push_walk.prm,
 # push_walk_sideways.prm); step timing on the pushed walks (push_walk_timing.prm,
-# push_walk_timing_sideways.prm), its gains (push_walk_timing_gains*.prm) and on the rough
-# grounds and over the unplanned step (rough_foothold_step_timing.prm,
-# unplanned_step_step_timing.prm); then
+# push_walk_timing_sideways.prm, on FEM soles push_walk_timing_fem.prm), its gains
+# (push_walk_timing_gains*.prm), on the rough grounds and over the unplanned step
+# (rough_foothold_step_timing.prm, unplanned_step_step_timing.prm); then
 # OUT_DIR/tables.md by table.py (outcome and figures per case).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
@@ -33,8 +33,9 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$here/planned_step.prm" "$here/flat_stepping.prm" "$here/rough_stepping.prm" \
   "$here/rough_foothold_stepping.prm" "$here/unplanned_step_stepping.prm" "$here/push_walk.prm" \
   "$here/push_walk_sideways.prm" "$here/push_walk_timing.prm" \
-  "$here/push_walk_timing_sideways.prm" "$here/push_walk_timing_gains.prm" \
-  "$here/push_walk_timing_gains_sideways.prm" "$here/rough_foothold_step_timing.prm" \
+  "$here/push_walk_timing_sideways.prm" "$here/push_walk_timing_fem.prm" \
+  "$here/push_walk_timing_gains.prm" "$here/push_walk_timing_gains_sideways.prm" \
+  "$here/rough_foothold_step_timing.prm" \
   "$here/unplanned_step_step_timing.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
@@ -45,6 +46,6 @@ done
   "$out/planned_step" "$out/flat_stepping" "$out/rough_stepping" \
   "$out/rough_foothold_stepping" "$out/unplanned_step_stepping" "$out/push_walk" \
   "$out/push_walk_sideways" "$out/push_walk_timing" "$out/push_walk_timing_sideways" \
-  "$out/push_walk_timing_gains" "$out/push_walk_timing_gains_sideways" \
+  "$out/push_walk_timing_fem" "$out/push_walk_timing_gains" "$out/push_walk_timing_gains_sideways" \
   "$out/rough_foothold_step_timing" "$out/unplanned_step_step_timing" >"$out/tables.md"
 cat "$out/tables.md"
