@@ -553,7 +553,7 @@ const std::vector<ControlNumber>& control_numbers() {
        "s: over the last this much of a swing the landing is held."},
       {"Step timing time constant", [](C& c) { return &c.balance.timing.time_constant; }, 0, true,
        "T_t, s: Step timing: the reference runs at 1 + lambda / T_t, lambda the time by which it "
-       "must move ahead to take the DCM deficit along its motion (docs/stabilizer.md)."},
+       "must move ahead to take the DCM error along its motion (docs/stabilizer.md)."},
       {"Max step timing rate", [](C& c) { return &c.balance.timing.max_rate; }, 1, false,
        "Step timing: the reference runs at most this many times as fast as the plan."},
       {"Step timing freeze time", [](C& c) { return &c.balance.timing.freeze_time; }, 0, false,

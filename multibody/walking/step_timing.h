@@ -5,8 +5,9 @@
 // here as a time warp of the whole reference on the linear inverted pendulum).
 //   The reference is played at its own time t_ref, t_ref' = r (r: the rate, 1 for the plan).
 //   With the DCM error e = xi - xi_ref (m), the step adjustment's deficit d (step_adjustment.h:
-//   the part of e the stance sole's CoP region cannot take; m) and the plan's DCM velocity
-//   v = d xi_ref / d t_ref (m/s), moving the reference ahead by the lead
+//   the part of e the stance sole's CoP region cannot take; m) and the reference DCM's velocity
+//   v (m/s, as played: the balance loop's omega (xi_ref - p_ref)), moving the reference ahead by
+//   the lead
 //     lambda = max(e . v, 0) / |v|^2   (s)
 //   moves its DCM onto e's component along v (the reference's phase nearest the robot's DCM,
 //   to first order). Each period, while one sole swings, its planned touchdown is more than
@@ -47,7 +48,7 @@ public:
   /// @param touched each sole's F/T sensor reads a touchdown
   /// @param error e (world x, y; m)
   /// @param deficit d (world x, y; m)
-  /// @param dcm_velocity v, the plan's DCM velocity at t_ref (world x, y; m/s)
+  /// @param dcm_velocity v, the reference DCM's velocity as played (world x, y; m/s)
   void update(double t_ref, const std::array<PlannedSwing, 2>& swings,
               const std::array<bool, 2>& touched, const Eigen::Vector2d& error,
               const Eigen::Vector2d& deficit, const Eigen::Vector2d& dcm_velocity, double dt);
