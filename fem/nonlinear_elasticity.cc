@@ -5,6 +5,7 @@
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/numerics/vector_tools.h>
@@ -75,6 +76,8 @@ void NonlinearElasticity::setup(const std::vector<DirichletCondition>& dirichlet
   traction_load_.reinit(n);
   nodal_load_.reinit(n);
   load_factor_ = 0;
+  round_off_step_ = 1e3 * std::numeric_limits<double>::epsilon() *
+                    dealii::GridTools::minimal_cell_diameter(triangulation_);
   history_.reset();
   if (materials_.has_viscosity())
     history_.emplace(triangulation_, materials_, discretization_.cell_quadrature.size());
@@ -400,6 +403,10 @@ NewtonReport NonlinearElasticity::solve_at(double load_factor) {
       rhs = residual_;
       rhs *= -1;
       solve_tangent(rhs, step);
+      // At round-off the residual stagnates above a tolerance relative to a tiny load; the
+      // update then says the state is converged.
+      if (step.linfty_norm() <= round_off_step_)
+        break;
     }
     start = solution_;
     double alpha = 1;
@@ -428,8 +435,8 @@ NewtonReport NonlinearElasticity::solve_at(double load_factor) {
     }
     ++report.iterations;
     if (std::getenv("PLANTAR_NEWTON_TRACE"))
-      std::fprintf(stderr, "  newton %u: alpha %.3g ||R|| %.3e (tol %.3e)\n", report.iterations,
-                   alpha, norm, tolerance);
+      std::fprintf(stderr, "  newton %u: alpha %.3g ||R|| %.3e (tol %.3e) |du| %.3e (floor %.3e)\n",
+                   report.iterations, alpha, norm, tolerance, step.linfty_norm(), round_off_step_);
     if (!accepted) {
       if (first) {
         solution_ = start_state;

@@ -52,7 +52,9 @@ struct NonlinearSettings {
   /// Mixed only: degree (0 or 1) of the element-wise pressure and dilatation;
   /// -1 = automatic (element degree - 1 on hexahedra, 0 on tetrahedra).
   int pressure_degree = -1;
-  /// Converged when ||R|| <= residual_tolerance * max(||R_0||, ||lambda F_ext||), range (0, 1).
+  /// Converged when ||R|| <= residual_tolerance * max(||R_0||, ||lambda F_ext||), range (0, 1),
+  /// or when a Newton update is below round-off, ||du||_inf <= 1e3 eps h_min (a nearly
+  /// unloaded sole: the residual's floor is then above the relative tolerance).
   double residual_tolerance = 1e-9;
   unsigned int max_iterations = 30;  ///< Newton iterations per load step, >= 1
   unsigned int max_line_search = 12; ///< step halvings per iteration, >= 0
@@ -175,6 +177,7 @@ private:
       nodal_load_;
   double load_factor_ = 0;
   double min_jacobian_ = 1;
+  double round_off_step_ = 0; ///< m: 1e3 eps h_min
   double time_step_ = 0;
   std::optional<ViscoHyperelasticHistory> history_;
 };

@@ -287,5 +287,39 @@ TEST(NonlinearSolver, BondedBlockNearlyIncompressible) {
   EXPECT_GT(p1 / gent, 2.0); // locking: displacement-only P1 far too stiff
 }
 
+// A converged state solved again (the same Dirichlet data, no load: a condensed sole whose foot
+// has left the ground keeps its last state) has a residual at round-off, far above the relative
+// tolerance of a vanishing load: Newton must stop on its round-off update, not fail its line
+// search (before: "Newton line search failed", ||R|| 7e-12 against a tolerance of 3e-14, in
+// the walk of a 1 MPa, nu = 0.49 sole). The state must not move.
+TEST(NonlinearSolver, ConvergedStateSolvedAgainStopsAtRoundOff) {
+  auto law = std::make_shared<NeoHookeanLaw>(NeoHookeanLaw::from_youngs(1e6, 0.49));
+  const HyperelasticMaterialTable materials(law);
+  for (const Formulation form : {Formulation::displacement, Formulation::mixed}) {
+    dealii::Triangulation<3> tria;
+    testing::make_box(tria, CellKind::hexahedron, 3, 3, 3, 0.2, 0.1, 0.02);
+    const Discretization disc(CellKind::hexahedron, 1);
+    NonlinearSettings settings;
+    settings.formulation = form;
+    NonlinearElasticity problem(tria, disc, materials, settings);
+    const dealii::Functions::ConstantFunction<3> squeeze(std::vector<double>{0.002, 0, -0.004});
+    problem.setup({{4, nullptr, {{true, true, true}}}, {5, &squeeze, {{true, true, true}}}});
+    problem.solve(4);
+    const double reaction = problem.reaction_force(5).norm();
+    const dealii::Point<3> corner(0.2, 0.1, 0.01);
+    const dealii::Tensor<1, 3> before = problem.displacement_at(corner);
+    const NewtonReport again = problem.solve_at(1.0);
+    const dealii::Tensor<1, 3> after = problem.displacement_at(corner);
+    std::printf("%s: reaction %.1f N; solved again: %u iterations, ||R|| = %.2e N, the state "
+                "moved by %.2e m\n",
+                form == Formulation::mixed ? "mixed" : "displacement", reaction, again.iterations,
+                again.final_residual, (after - before).norm());
+    EXPECT_GT(reaction, 1e3);                         // a loaded state
+    EXPECT_LT(again.final_residual, 1e-9 * reaction); // at round-off
+    EXPECT_LE(again.iterations, 3u);
+    EXPECT_LT((after - before).norm(), 1e-12); // displacements of millimetres
+  }
+}
+
 } // namespace
 } // namespace plantar::fem
