@@ -115,6 +115,9 @@ const ChoiceTable<StabilizerType> stabilizer_types{{StabilizerType::none, "none"
 const ChoiceTable<walking::StateEstimate> state_estimates{
     {walking::StateEstimate::kinematic, "kinematic"},
     {walking::StateEstimate::ground_truth, "ground truth"}};
+const ChoiceTable<walking::PassiveJointEstimate> passive_joint_estimates{
+    {walking::PassiveJointEstimate::plan, "plan"},
+    {walking::PassiveJointEstimate::wrench, "wrench"}};
 
 } // namespace
 
@@ -600,6 +603,13 @@ void ControlParameters::declare(dealii::ParameterHandler& prm) {
                     choice_pattern(state_estimates),
                     "kinematic: CoM and DCM from encoders, IMU orientation and the F/T "
                     "sensors' contact anchoring; ground truth: the simulator's (comparison).");
+  prm.declare_entry("Passive joint estimate",
+                    choice_name(passive_joint_estimates, d.balance.estimator.passive),
+                    choice_pattern(passive_joint_estimates),
+                    "State estimate = kinematic, passive joints with springs (Robot/Foot form = "
+                    "compliant ankle): plan: at the plan's predicted deflection; wrench: each "
+                    "spring-damper driven by the F/T sensors' wrenches, c q' + k (q - rest) = "
+                    "J^T W (multibody/walking/com_estimator.h).");
   for (const ControlNumber& entry : control_numbers())
     prm.declare_entry(entry.name, number_text(*entry.member(d)),
                       entry.lower < -1e299 ? Double() : Double(entry.lower), entry.help);
@@ -637,6 +647,8 @@ void ControlParameters::parse(dealii::ParameterHandler& prm) {
   stabilizer = parse_choice(stabilizer_types, prm.get("Stabilizer"), "Control/Stabilizer");
   balance.estimate =
       parse_choice(state_estimates, prm.get("State estimate"), "Control/State estimate");
+  balance.estimator.passive = parse_choice(
+      passive_joint_estimates, prm.get("Passive joint estimate"), "Control/Passive joint estimate");
   for (const ControlNumber& entry : control_numbers()) {
     const double value = prm.get_double(entry.name);
     require(entry.strict ? value > entry.lower : value >= entry.lower,

@@ -94,9 +94,10 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
   const multibody::sensors::SensorReadings& readings =
       sensors_.measure(true_data_, q, ground_wrenches);
   std::array<double, 2> normal{};
+  std::array<multibody::Vector6d, 2> sole_wrenches;
   Eigen::Vector2d clearance, normal_force;
   for (int foot = 0; foot < 2; ++foot) {
-    const multibody::Vector6d at_sole =
+    const multibody::Vector6d& at_sole = sole_wrenches[foot] =
         sensor_in_sole_[foot].act_force(readings.foot_wrenches[foot]);
     feet_[foot].force = at_sole.head<3>();
     feet_[foot].moment = at_sole.tail<3>();
@@ -121,7 +122,7 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
     estimator_.set(com_true, com_true_velocity);
   else {
     estimator_.set_unsensed(q_ref); // e.g. ankle springs at the plan's deflection
-    estimator_.update(readings.encoders, readings.imu.orientation, soles, normal);
+    estimator_.update(readings.encoders, readings.imu.orientation, soles, sole_wrenches);
   }
   const Eigen::Vector2d dcm = estimator_.dcm(omega_).head<2>();
   const Eigen::Vector2d dcm_true = (com_true + com_true_velocity / omega_).head<2>();

@@ -171,9 +171,11 @@ TEST(PushRecovery, AWaistTiltedPastFallTiltIsAFall) {
 }
 
 TEST(StabilizerLoop, StepAllocatesNothing) {
-  // The push scene with noisy, delayed sensors: sensors, estimator, stabilizer and push.
+  // The push scene with noisy, delayed sensors: sensors, estimator (the ankle springs from the
+  // F/T wrenches), stabilizer and push.
   HumanoidSimulation sim(testing::load_humanoid_scene(
       "push_stand", {{"Simulation/Duration", "1.5"},
+                     {"Control/Passive joint estimate", "wrench"},
                      {"Control/Force noise", "2"},
                      {"Control/IMU orientation noise", "0.001"},
                      {"Control/Sensor delay", "2"},
