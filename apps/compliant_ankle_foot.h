@@ -24,6 +24,10 @@ public:
   /// Compensated ankles: the springs at the deflection the compensation predicts at t (linear
   /// between the reference's samples, t clamped to them); else leaves @p q.
   void set_reference_state(double t, Eigen::Ref<Eigen::VectorXd> q) const override;
+  /// The ankle's angular springs (roll and pitch).
+  Eigen::Vector2d tilt_stiffness() const override {
+    return Eigen::Vector2d::Constant(robot_.ankle_angular_stiffness);
+  }
   /// foot_stiffness: the ankle's linear spring (in series with rigid contacts).
   void summarize(HumanoidSummary& summary) const override {
     summary.foot_stiffness = robot_.ankle_linear_stiffness;

@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 
+#include <limits>
+
 #include <array>
 #include <filesystem>
 
@@ -88,6 +90,12 @@ public:
   }
   /// Contacts of foot @p foot (0 right, 1 left) after the step of @p dt (s). No heap allocation.
   virtual void report(int foot, const multibody::Data& data, double dt, FootReport& out) const = 0;
+  /// The tilt stiffness (roll, pitch about the sole axes; N m/rad) of what lies between the foot
+  /// link's ankle and a flat ground under the whole sole, the other motions free: infinite for
+  /// a rigid foot (the default), the springs of a compliant ankle, the whole face of a sole.
+  virtual Eigen::Vector2d tilt_stiffness() const {
+    return Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  }
   /// Fills this form's figures of @p summary (contact nodes, sole statistics, foot_stiffness).
   virtual void summarize(HumanoidSummary& summary) const { (void)summary; }
   /// Whether write_fields writes anything (a field per sole).

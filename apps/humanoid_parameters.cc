@@ -505,6 +505,11 @@ const std::vector<ControlNumber>& control_numbers() {
        "T_i (s): leak of the DCM error's integral, E' = e - E / T_i."},
       {"Foot damping", [](C& c) { return &c.balance.stabilizer.foot_damping; }, 0, true,
        "D (N m s/rad): foot damping control, rotation rate = CoP error x f_z / D (Kajita 2010)."},
+      {"Foot damping rate", [](C& c) { return &c.foot_damping_rate; }, 0, false,
+       "r (1/s), > 0: the foot damping of each axis set from what lies under the ankle, D = k / "
+       "r with 1/k = 1/(Joint stiffness) + 1/(the foot's tilt stiffness: infinite for rigid "
+       "feet, the ankle springs, a sole's whole face), the CoP loop's rate (docs/stabilizer.md); "
+       "0: Foot damping on both axes."},
       {"Foot damping time constant", [](C& c) { return &c.balance.stabilizer.foot_time_constant; },
        0, true, "T_c (s): the foot rotations return to 0 with this time constant."},
       {"Force difference damping", [](C& c) { return &c.balance.stabilizer.force_damping; }, 0,

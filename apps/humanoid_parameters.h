@@ -149,7 +149,10 @@ struct ControlParameters {
   /// Gains, filters, estimator and sensor noise (frame indices are set by the simulation
   /// from the names below).
   walking::BalanceParameters balance;
-  double cop_margin = 0.01;                  ///< m: CoP targets this far inside the sole outline
+  double cop_margin = 0.01; ///< m: CoP targets this far inside the sole outline
+  /// 1/s: > 0 sets the foot damping per axis from the foot's tilt stiffness, D = k / rate with
+  /// 1/k = 1/kp + 1/k_foot (FootModel::tilt_stiffness); 0: Foot damping on both axes.
+  double foot_damping_rate = 0;
   std::string imu_frame;                     ///< empty: Robot/Base link
   std::array<std::string, 2> force_frames{}; ///< right, left; empty: the foot links
   static void declare(dealii::ParameterHandler& prm);

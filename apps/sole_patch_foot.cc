@@ -4,10 +4,12 @@
 #include "contact/terrain.h"
 #include "coupling/contact_frame_compliance.h"
 #include "coupling/pad_state.h"
+#include "coupling/reduced_sole.h"
 #include "fem/mesh_generator.h"
 #include "multibody/stepper.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <deal.II/fe/fe_values.h>
 
 #include <algorithm>
@@ -35,6 +37,10 @@ void SolePatchFoot::set_patch(Eigen::Matrix3Xd nodes, Eigen::MatrixXd compliance
     for (int j = 0; j < n; ++j)
       c_zz(i, j) = compliance_(3 * i + 2, 3 * j + 2);
   stiffness_ = c_zz.ldlt().solve(Eigen::VectorXd::Ones(n)).sum();
+  const Eigen::Matrix<double, 6, 6> rigid =
+      coupling::rigid_motion_stiffness(nodes_.transpose(), compliance_, nodes_.rowwise().mean());
+  const Eigen::Matrix<double, 6, 6> flexibility = rigid.inverse();
+  tilt_stiffness_ << 1 / flexibility(3, 3), 1 / flexibility(4, 4);
 }
 
 void SolePatchFoot::summarize(HumanoidSummary& summary) const {

@@ -71,6 +71,8 @@ void DcmStabilizer::update(const Eigen::Vector2d& dcm, const Eigen::Vector2d& dc
   }
 
   // Foot damping control.
+  const double roll_damping = p.tilt_damping[0] > 0 ? p.tilt_damping[0] : p.foot_damping;
+  const double pitch_damping = p.tilt_damping[1] > 0 ? p.tilt_damping[1] : p.foot_damping;
   zmp_deficit_.setZero();
   for (int foot = 0; foot < 2; ++foot) {
     const StabilizerFoot& f = feet[foot];
@@ -85,8 +87,8 @@ void DcmStabilizer::update(const Eigen::Vector2d& dcm, const Eigen::Vector2d& dc
       if (!both)
         zmp_deficit_ = excess;
       const double cop_x = -f.moment.y() / fz, cop_y = f.moment.x() / fz;
-      roll_rate += (cop_y - target_y) * fz / p.foot_damping;
-      pitch_rate += (target_x - cop_x) * fz / p.foot_damping;
+      roll_rate += (cop_y - target_y) * fz / roll_damping;
+      pitch_rate += (target_x - cop_x) * fz / pitch_damping;
     }
     o.roll = clamp(o.roll + dt * roll_rate, p.max_foot_rotation);
     o.pitch = clamp(o.pitch + dt * pitch_rate, p.max_foot_rotation);

@@ -13,8 +13,8 @@
 //   ZMP deficit        d = p_d - its clamped CoP target (world) with one foot in contact; else 0
 //   foot damping       per foot in contact, sole axes, CoP targets clamped to the sole (its
 //                      support polygon shrunk by a margin when the plan gives one):
-//                      roll'  = (cop_y - cop_y,d) f_z / D - roll / T_c
-//                      pitch' = (cop_x,d - cop_x) f_z / D - pitch / T_c
+//                      roll'  = (cop_y - cop_y,d) f_z / D_roll - roll / T_c
+//                      pitch' = (cop_x,d - cop_x) f_z / D_pitch - pitch / T_c
 //                      (a foot out of contact: only the decay)
 //   force difference   z' = ((f_L,d - f_R,d) - (f_L - f_R)) / D_z - z / T_z  (both feet down;
 //                      else the decay); left sole lowered by z / 2, right raised by z / 2.
@@ -29,11 +29,13 @@ namespace plantar::walking {
 struct DcmStabilizerParameters {
   // Structure: Kajita et al. 2010 and Caron et al. 2019; the values are tuned on the HRP-2
   // model of this repository (docs/stabilizer.md: what each was tried at).
-  double omega = 3.47;                       ///< sqrt(g / z_c), 1/s, > 0 (set from the reference)
-  double dcm_gain = 10;                      ///< k_p, 1/s, >= 0
-  double dcm_integral_gain = 0;              ///< k_i, 1/s, >= 0
-  double integral_time_constant = 10;        ///< T_i, s, > 0 (mc_rtc's HRP-4 value)
-  double foot_damping = 2000;                ///< D, N m s/rad, > 0
+  double omega = 3.47;                ///< sqrt(g / z_c), 1/s, > 0 (set from the reference)
+  double dcm_gain = 10;               ///< k_p, 1/s, >= 0
+  double dcm_integral_gain = 0;       ///< k_i, 1/s, >= 0
+  double integral_time_constant = 10; ///< T_i, s, > 0 (mc_rtc's HRP-4 value)
+  double foot_damping = 2000;         ///< D, N m s/rad, > 0
+  /// D of the roll and the pitch axis (N m s/rad); an entry <= 0 takes foot_damping.
+  Eigen::Vector2d tilt_damping = Eigen::Vector2d::Zero();
   double foot_time_constant = 1;             ///< T_c, s, > 0
   double force_damping = 1e5;                ///< D_z, N s/m, > 0 (mc_rtc's 1/1e-4 chatters here)
   double force_time_constant = 1;            ///< T_z, s, > 0

@@ -251,6 +251,68 @@ TEST(StabilizerScene, BadEntriesAreNamed) {
   EXPECT_NE(tilt.find("Simulation/Fall tilt = 0"), std::string::npos) << tilt;
 }
 
+// Control/Foot damping rate: each axis's foot damping from what lies under the ankle, D = k / r
+// with 1/k = 1/kp + 1/k_foot. The whole sole face's tilt stiffness against the confined layer's
+// closed form E (1 - nu) / ((1 + nu)(1 - 2 nu)) I / t (I = L W^3 / 12 for roll, W L^3 / 12 for
+// pitch; an upper bound of the converged sole that the free sides' bulging lowers by 4-8 %, the
+// 3 cm P1 mesh's locking raises by about as much); then the published soft sole (0.23 x 0.13 x
+// 0.021 m, E = 320 kPa, nu = 0.3, mu = 0.65; issue 23) on the default walk: with the default
+// D = 2000 N m s/rad, tuned on the stiff walk, a node is squeezed through half the thickness at
+// 3.40 s (the CoP loop's rate k / D is 0.4 /s in roll); at r = 12 /s it completes.
+TEST(FootDampingRate, TheSoftSoleWalksWithTheDampingOfItsTiltStiffness) {
+  const double E = 4e6, nu = 0.3, length = 0.2172, width = 0.138, thickness = 0.02;
+  const double confined = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / thickness;
+  HumanoidSimulation sole(testing::load_humanoid_scene(
+      "default", {{"Robot/Foot form", "fem sole"}, {"Simulation/Duration", "0.002"}}));
+  const Eigen::Vector2d k = sole.summary().foot_tilt_stiffness;
+  const Eigen::Vector2d closed(confined * length * std::pow(width, 3) / 12,
+                               confined * width * std::pow(length, 3) / 12);
+  std::printf("default sole, 3 cm P1: tilt stiffness roll %.0f, pitch %.0f N m/rad; confined "
+              "layer %.0f, %.0f\n",
+              k[0], k[1], closed[0], closed[1]);
+  EXPECT_NEAR(k[0] / closed[0], 1, 0.1);
+  EXPECT_NEAR(k[1] / closed[1], 1, 0.1);
+  HumanoidSimulation ankle(testing::load_humanoid_scene(
+      "default", {{"Robot/Foot form", "compliant ankle"}, {"Simulation/Duration", "0.002"}}));
+  EXPECT_EQ(ankle.summary().foot_tilt_stiffness, Eigen::Vector2d(600, 600)); // the springs
+
+  const std::vector<std::pair<std::string, std::string>> soft{
+      {"Robot/Foot form", "fem sole"},
+      {"Sole/Length", "0.23"},
+      {"Sole/Width", "0.13"},
+      {"Sole/Thickness", "0.021"},
+      {"Sole/Materials", "rubber: law=linear, E=3.2e5, nu=0.3"},
+      {"Contact/Friction coefficient", "0.65"},
+      {"Simulation/Time step", "0.001"},
+      {"Simulation/Theta", "1"}};
+  HumanoidSimulation tuned(testing::load_humanoid_scene("default", soft));
+  const std::string failure = testing::run_to_stop(tuned);
+  std::printf("soft sole, Foot damping = %.0f: %s\n", tuned.summary().foot_damping[0],
+              failure.c_str());
+  EXPECT_NE(failure.find("compression"), std::string::npos) << failure;
+
+  auto rated = soft;
+  rated.emplace_back("Control/Foot damping rate", "12");
+  HumanoidSimulation matched(testing::load_humanoid_scene("default", rated));
+  ASSERT_NO_THROW(matched.run());
+  const HumanoidSummary& s = matched.summary();
+  const double kp = 1e5; // Control/Joint stiffness of the scene
+  for (int axis = 0; axis < 2; ++axis)
+    EXPECT_NEAR(s.foot_damping[axis], 1 / (1 / kp + 1 / s.foot_tilt_stiffness[axis]) / 12,
+                1e-12 * s.foot_damping[axis]);
+  const double right = (s.final_right_sole - s.planned_right_sole).head<2>().norm();
+  const double left = (s.final_left_sole - s.planned_left_sole).head<2>().norm();
+  std::printf("soft sole, Foot damping rate = 12 /s: tilt stiffness %.0f, %.0f N m/rad, D = "
+              "%.1f, %.1f N m s/rad; completes, waist within %.2f deg, soles %.1f, %.1f mm from "
+              "plan\n",
+              s.foot_tilt_stiffness[0], s.foot_tilt_stiffness[1], s.foot_damping[0],
+              s.foot_damping[1], s.max_waist_tilt * 180 / M_PI, right * 1e3, left * 1e3);
+  EXPECT_LT(s.foot_tilt_stiffness[0], 2 * s.robot_mass * 9.81 * 0.815); // a soft support
+  EXPECT_LT(s.max_waist_tilt * 180 / M_PI, 5.0);
+  EXPECT_LT(right, 0.02);
+  EXPECT_LT(left, 0.02);
+}
+
 TEST(PushedWalk, StepAdjustmentRecoversWhatTheAnkleCannot) {
   // Forward 40 N s and sideways (to the right, the swing foot's side) 30 N s: the ankle strategy
   // alone recovers 35 and 25 N s (docs/stabilizer.md).
