@@ -14,8 +14,14 @@
 # push_walk_sideways.prm); step timing on the pushed walks (push_walk_timing.prm,
 # push_walk_timing_sideways.prm, on FEM soles push_walk_timing_fem.prm), its gains
 # (push_walk_timing_gains*.prm), on the rough grounds and over the unplanned step
-# (rough_foothold_step_timing.prm, unplanned_step_step_timing.prm); then
-# OUT_DIR/tables.md by table.py (outcome and figures per case).
+# (rough_foothold_step_timing.prm, unplanned_step_step_timing.prm); the soft soles the linear
+# sole cannot take with the Neo-Hookean sole (sole_material_hyperelastic.prm), the materials with
+# the foot damping of the sole's tilt stiffness (sole_material_rate.prm), the published soft
+# sole, linear and Neo-Hookean, with the default and the tilt-matched foot damping
+# (soft_sole.prm, soft_sole_hyperelastic.prm), that damping on the default walk
+# (foot_damping_rate.prm), the sensors' delay, noise and bias (sensor_delay.prm,
+# sensor_noise.prm, sensor_bias.prm); then OUT_DIR/tables.md by table.py (outcome and figures
+# per case).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
@@ -36,7 +42,10 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$here/push_walk_timing_sideways.prm" "$here/push_walk_timing_fem.prm" \
   "$here/push_walk_timing_gains.prm" "$here/push_walk_timing_gains_sideways.prm" \
   "$here/rough_foothold_step_timing.prm" \
-  "$here/unplanned_step_step_timing.prm"; do
+  "$here/unplanned_step_step_timing.prm" "$here/sole_material_hyperelastic.prm" \
+  "$here/sole_material_rate.prm" \
+  "$here/soft_sole.prm" "$here/soft_sole_hyperelastic.prm" "$here/foot_damping_rate.prm" \
+  "$here/sensor_delay.prm" "$here/sensor_noise.prm" "$here/sensor_bias.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
 done
@@ -47,5 +56,9 @@ done
   "$out/rough_foothold_stepping" "$out/unplanned_step_stepping" "$out/push_walk" \
   "$out/push_walk_sideways" "$out/push_walk_timing" "$out/push_walk_timing_sideways" \
   "$out/push_walk_timing_fem" "$out/push_walk_timing_gains" "$out/push_walk_timing_gains_sideways" \
-  "$out/rough_foothold_step_timing" "$out/unplanned_step_step_timing" >"$out/tables.md"
+  "$out/rough_foothold_step_timing" "$out/unplanned_step_step_timing" \
+  "$out/sole_material_hyperelastic" "$out/sole_material_rate" "$out/soft_sole" \
+  "$out/soft_sole_hyperelastic" \
+  "$out/foot_damping_rate" "$out/sensor_delay" "$out/sensor_noise" "$out/sensor_bias" \
+  >"$out/tables.md"
 cat "$out/tables.md"
