@@ -183,12 +183,11 @@ HumanoidSimulation::HumanoidSimulation(const Scene& scene)
     if (control.foot_damping_rate > 0) {
       // The CoP loop: a foot rotation d theta moves the CoP by k d theta / f_z, k the servo in
       // series with the foot's tilt stiffness, so roll' = -(k / D) roll: its rate is k / D.
-      const Eigen::Vector2d k_foot = foot_model_->tilt_stiffness();
+      const Eigen::Vector2d k_foot = summary_.foot_tilt_stiffness = foot_model_->tilt_stiffness();
       for (int axis = 0; axis < 2; ++axis)
         balance.stabilizer.tilt_damping[axis] =
             1 / (1 / control.stiffness + 1 / k_foot[axis]) / control.foot_damping_rate;
     }
-    summary_.foot_tilt_stiffness = foot_model_->tilt_stiffness();
     summary_.foot_damping = balance.stabilizer.tilt_damping;
     for (int axis = 0; axis < 2; ++axis)
       if (!(summary_.foot_damping[axis] > 0))

@@ -19,7 +19,8 @@ struct HumanoidSummary {
   /// N/m: vertical stiffness of one foot's contact, pressed down uniformly (FEM sole:
   /// 1^T C_zz^-1 1 of its condensed compliance; compliant ankle: its linear spring); 0: rigid.
   double foot_stiffness = 0;
-  /// N m/rad: the foot's tilt stiffness (roll, pitch; FootModel::tilt_stiffness, inf: rigid).
+  /// N m/rad: the foot's tilt stiffness (roll, pitch; FootModel::tilt_stiffness, inf: rigid);
+  /// with Control/Foot damping rate > 0 only, else 0.
   Eigen::Vector2d foot_tilt_stiffness = Eigen::Vector2d::Zero();
   /// N m s/rad: the stabilizer's foot damping (roll, pitch); 0 without the stabilizer.
   Eigen::Vector2d foot_damping = Eigen::Vector2d::Zero();

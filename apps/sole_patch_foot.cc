@@ -37,10 +37,13 @@ void SolePatchFoot::set_patch(Eigen::Matrix3Xd nodes, Eigen::MatrixXd compliance
     for (int j = 0; j < n; ++j)
       c_zz(i, j) = compliance_(3 * i + 2, 3 * j + 2);
   stiffness_ = c_zz.ldlt().solve(Eigen::VectorXd::Ones(n)).sum();
+}
+
+Eigen::Vector2d SolePatchFoot::tilt_stiffness() const {
   const Eigen::Matrix<double, 6, 6> rigid =
       coupling::rigid_motion_stiffness(nodes_.transpose(), compliance_, nodes_.rowwise().mean());
   const Eigen::Matrix<double, 6, 6> flexibility = rigid.inverse();
-  tilt_stiffness_ << 1 / flexibility(3, 3), 1 / flexibility(4, 4);
+  return {1 / flexibility(3, 3), 1 / flexibility(4, 4)};
 }
 
 void SolePatchFoot::summarize(HumanoidSummary& summary) const {

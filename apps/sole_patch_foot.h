@@ -30,8 +30,9 @@ public:
   void report(int foot, const multibody::Data& data, double dt, FootReport& out) const override;
   /// The contact face's tilt stiffness, k = 1 / [K_R^-1]_theta,theta with K_R = R^T C^-1 R the
   /// face's stiffness against rigid motions (coupling/reduced_sole.h; every node stuck to the
-  /// ground, the translations and the other rotations free); at u = 0.
-  Eigen::Vector2d tilt_stiffness() const override { return tilt_stiffness_; }
+  /// ground, the translations and the other rotations free); at u = 0. A dense solve with the
+  /// 3n x 3n compliance: call it once, at setup.
+  Eigen::Vector2d tilt_stiffness() const override;
   /// Contact nodes per sole and the sole's vertical stiffness (foot_stiffness, at u = 0).
   void summarize(HumanoidSummary& summary) const override;
   /// The .vtu of scene_vtk_writer.h: displacement (world), stress fields, contact
@@ -96,7 +97,6 @@ private:
     Eigen::Vector3d position; ///< body coordinates, m
   };
   Eigen::Matrix3Xd nodes_;
-  Eigen::Vector2d tilt_stiffness_ = Eigen::Vector2d::Zero(); ///< roll, pitch, N m/rad
   Eigen::MatrixXd compliance_;
   double damping_time_ = 0;
   double stiffness_ = 0;                                    ///< N/m, 1^T C_zz^-1 1 of compliance_

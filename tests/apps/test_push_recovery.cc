@@ -262,8 +262,10 @@ TEST(StabilizerScene, BadEntriesAreNamed) {
 TEST(FootDampingRate, TheSoftSoleWalksWithTheDampingOfItsTiltStiffness) {
   const double E = 4e6, nu = 0.3, length = 0.2172, width = 0.138, thickness = 0.02;
   const double confined = E * (1 - nu) / ((1 + nu) * (1 - 2 * nu)) / thickness;
-  HumanoidSimulation sole(testing::load_humanoid_scene(
-      "default", {{"Robot/Foot form", "fem sole"}, {"Simulation/Duration", "0.002"}}));
+  HumanoidSimulation sole(
+      testing::load_humanoid_scene("default", {{"Robot/Foot form", "fem sole"},
+                                               {"Control/Foot damping rate", "12"},
+                                               {"Simulation/Duration", "0.002"}}));
   const Eigen::Vector2d k = sole.summary().foot_tilt_stiffness;
   const Eigen::Vector2d closed(confined * length * std::pow(width, 3) / 12,
                                confined * width * std::pow(length, 3) / 12);
@@ -272,8 +274,10 @@ TEST(FootDampingRate, TheSoftSoleWalksWithTheDampingOfItsTiltStiffness) {
               k[0], k[1], closed[0], closed[1]);
   EXPECT_NEAR(k[0] / closed[0], 1, 0.1);
   EXPECT_NEAR(k[1] / closed[1], 1, 0.1);
-  HumanoidSimulation ankle(testing::load_humanoid_scene(
-      "default", {{"Robot/Foot form", "compliant ankle"}, {"Simulation/Duration", "0.002"}}));
+  HumanoidSimulation ankle(
+      testing::load_humanoid_scene("default", {{"Robot/Foot form", "compliant ankle"},
+                                               {"Control/Foot damping rate", "12"},
+                                               {"Simulation/Duration", "0.002"}}));
   EXPECT_EQ(ankle.summary().foot_tilt_stiffness, Eigen::Vector2d(600, 600)); // the springs
 
   const std::vector<std::pair<std::string, std::string>> soft{
