@@ -588,6 +588,9 @@ const std::vector<ControlNumber>& control_numbers() {
       {"Torque noise", [](C& c) { return &c.balance.sensors.torque.noise; }, 0, false,
        "N m, standard deviation (F/T sensors)."},
       {"Torque bias", [](C& c) { return &c.balance.sensors.torque.bias; }, -1e300, false, "N m."},
+      {"Force sensor bandwidth", [](C& c) { return &c.balance.sensors.force_bandwidth; }, 0, false,
+       "Hz: cut-off of a first-order low-pass on both F/T sensors' six signals, after their "
+       "delay, bias and noise (the sensor's and its amplifier's bandwidth); 0: none."},
   };
   return table;
 }

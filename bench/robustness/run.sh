@@ -19,7 +19,8 @@
 # the foot damping of the sole's tilt stiffness (sole_material_rate.prm), the published soft
 # sole, linear and Neo-Hookean, with the default and the tilt-matched foot damping
 # (soft_sole.prm, soft_sole_hyperelastic.prm), that damping on the default walk
-# (foot_damping_rate.prm), the sensors' delay, noise and bias (sensor_delay.prm,
+# (foot_damping_rate.prm) and with the F/T sensors' 25 Hz low-pass on the three forms
+# (forms_dt_theta_rule.prm), the sensors' delay, noise and bias (sensor_delay.prm,
 # sensor_noise.prm, sensor_bias.prm); then OUT_DIR/tables.md by table.py (outcome and figures
 # per case).
 set -eu
@@ -45,6 +46,7 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$here/unplanned_step_step_timing.prm" "$here/sole_material_hyperelastic.prm" \
   "$here/sole_material_rate.prm" \
   "$here/soft_sole.prm" "$here/soft_sole_hyperelastic.prm" "$here/foot_damping_rate.prm" \
+  "$here/forms_dt_theta_rule.prm" \
   "$here/sensor_delay.prm" "$here/sensor_noise.prm" "$here/sensor_bias.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
@@ -59,6 +61,7 @@ done
   "$out/rough_foothold_step_timing" "$out/unplanned_step_step_timing" \
   "$out/sole_material_hyperelastic" "$out/sole_material_rate" "$out/soft_sole" \
   "$out/soft_sole_hyperelastic" \
-  "$out/foot_damping_rate" "$out/sensor_delay" "$out/sensor_noise" "$out/sensor_bias" \
+  "$out/foot_damping_rate" "$out/forms_dt_theta_rule" "$out/sensor_delay" "$out/sensor_noise" \
+  "$out/sensor_bias" \
   >"$out/tables.md"
 cat "$out/tables.md"

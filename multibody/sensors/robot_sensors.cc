@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -32,6 +33,14 @@ RobotSensors::RobotSensors(const Model& model, const RobotSensorParameters& para
     if (iq < 0 || iq >= model.nq)
       throw std::invalid_argument("RobotSensors: encoder index " + std::to_string(iq) +
                                   " outside the configuration");
+  if (!(parameters.force_bandwidth >= 0) ||
+      (parameters.force_bandwidth > 0 && !(parameters.period > 0)))
+    throw std::invalid_argument("RobotSensors: force bandwidth " +
+                                std::to_string(parameters.force_bandwidth) + " Hz with period " +
+                                std::to_string(parameters.period) +
+                                " s: want a bandwidth >= 0 and, when > 0, a period > 0");
+  if (parameters.force_bandwidth > 0)
+    force_alpha_ = -std::expm1(-2 * M_PI * parameters.force_bandwidth * parameters.period);
   const int n_enc = static_cast<int>(parameters.encoder_q.size());
   const int n = encoders_at + n_enc + 12;
   Eigen::VectorXd noise = Eigen::VectorXd::Zero(n), bias = Eigen::VectorXd::Zero(n);
@@ -81,8 +90,14 @@ const SensorReadings& RobotSensors::measure(const Data& data,
   readings_.imu.angular_velocity = y.segment<3>(gyro_at);
   readings_.imu.linear_acceleration = y.segment<3>(accel_at);
   readings_.encoders = y.segment(encoders_at, n_enc);
-  for (int foot = 0; foot < 2; ++foot)
-    readings_.foot_wrenches[foot] = y.segment<6>(encoders_at + n_enc + 6 * foot);
+  for (int foot = 0; foot < 2; ++foot) {
+    const auto sample = y.segment<6>(encoders_at + n_enc + 6 * foot);
+    Vector6d& filtered = readings_.foot_wrenches[foot];
+    filtered = first_ || force_alpha_ == 1
+                   ? Vector6d(sample)
+                   : Vector6d(filtered + force_alpha_ * (sample - filtered));
+  }
+  first_ = false;
   return readings_;
 }
 

@@ -8,7 +8,10 @@
 // ground wrench on each foot:
 //   IMU (imu.h): R_s exp([e]x) with e the orientation noise (rad), w_s, f_s
 //   encoders: the controlled joints' q
-//   F/T (force_torque_sensor.h): [f_s; n_s] of each foot at its sensor frame
+//   F/T (force_torque_sensor.h): [f_s; n_s] of each foot at its sensor frame, optionally
+//     through a first-order low-pass of cut-off f_c (the sensor's and its amplifier's
+//     bandwidth), after the channel's delay, bias and noise:
+//       y_f,n = y_f,n-1 + alpha (y_n - y_f,n-1),  alpha = 1 - exp(-2 pi f_c dt),  y_f,0 = y_0
 // Constant once built; measure() allocates nothing.
 
 #include "multibody/data.h"
@@ -42,6 +45,8 @@ struct RobotSensorParameters {
   NoiseModel force;                  ///< N
   NoiseModel torque;                 ///< N m
   int delay = 0;                     ///< k control periods, >= 0
+  double force_bandwidth = 0;        ///< f_c of the F/T low-pass, Hz, >= 0; 0: none
+  double period = 0;                 ///< dt between calls of measure(), s (> 0 with f_c > 0)
   std::uint32_t seed = 1;            ///< of the noise generator
 };
 
@@ -53,7 +58,8 @@ struct SensorReadings {
 
 class RobotSensors {
 public:
-  /// Throws std::invalid_argument for a frame or index outside @p model or a negative delay.
+  /// Throws std::invalid_argument for a frame or index outside @p model, a negative delay or
+  /// bandwidth, or a bandwidth without a positive period.
   RobotSensors(const Model& model, const RobotSensorParameters& parameters);
   const RobotSensorParameters& parameters() const { return parameters_; }
   /// Measures. Requires forward_kinematics(model, data, q, v, a) on @p data.
@@ -68,6 +74,8 @@ private:
   SensorChannel channel_;  ///< all signals packed: see measure()
   Eigen::VectorXd packed_; ///< 9 + 3 + 3 + 3 + n_enc + 12
   SensorReadings readings_;
+  double force_alpha_ = 1; ///< the F/T low-pass's alpha (1: none)
+  bool first_ = true;
 };
 
 } // namespace plantar::multibody::sensors

@@ -23,12 +23,19 @@ double reference_omega(const multibody::Model& model, const Humanoid& humanoid,
   return std::sqrt(-model.gravity.z() / height);
 }
 
+/// @p sensors read once per control period @p dt (s).
+multibody::sensors::RobotSensorParameters
+at_period(multibody::sensors::RobotSensorParameters sensors, double dt) {
+  sensors.period = dt;
+  return sensors;
+}
+
 } // namespace
 
 BalanceController::BalanceController(const multibody::Model& model, const Humanoid& humanoid,
                                      const BalanceParameters& parameters, double dt, bool stabilize)
     : model_(model), humanoid_(humanoid), parameters_(parameters), dt_(dt), stabilize_(stabilize),
-      sensors_(model, parameters.sensors),
+      sensors_(model, at_period(parameters.sensors, dt)),
       estimator_(model, humanoid, parameters.sensors.imu_frame, parameters.estimator, dt),
       stabilizer_(parameters.stabilizer), touchdown_(parameters.touchdown), step_(parameters.step),
       timing_(parameters.timing), reference_data_(model), true_data_(model), leg_data_(model),

@@ -7,7 +7,11 @@
 // - at passive theta 1 (the default) that change is under 0.1 % of the weight, as for the
 //   rigid feet and for the whole robot at theta 1 (the ringing is the trapezoidal rule's);
 // - the compliant joints' dofs follow passive theta, the rest theta (multibody unit test
-//   multibody_stepper_theta_test checks the scheme itself against a dense computation).
+//   multibody_stepper_theta_test checks the scheme itself against a dense computation);
+// - with the foot damping of the ankle springs' tilt stiffness (Control/Foot damping rate 12 /s:
+//   D = 50 N m s/rad) the explicit admittance rings at the step's frequency on raw F/T
+//   readings; read through a 25 Hz low-pass (Control/Force sensor bandwidth) the change is
+//   again under 0.1 % of the weight.
 #include "apps/humanoid_simulation.h"
 #include "tests/apps/humanoid_test_utilities.h"
 
@@ -28,12 +32,15 @@ struct Ringing {
 
 /// Over t in [0.2, 1.2] s, while the robot stands (the first step starts at 1.6 s).
 Ringing force_ringing(const std::string& form, const std::string& theta,
-                      const std::string& passive_theta) {
+                      const std::string& passive_theta, const std::string& rate = "0",
+                      const std::string& bandwidth = "0") {
   const Scene scene =
       testing::load_humanoid_scene("default", {{"Robot/Foot form", form},
                                                {"Robot/Foot forms", ""},
                                                {"Simulation/Theta", theta},
                                                {"Simulation/Passive joint theta", passive_theta},
+                                               {"Control/Foot damping rate", rate},
+                                               {"Control/Force sensor bandwidth", bandwidth},
                                                {"Simulation/Duration", "1.2"},
                                                {"Output/Write VTU", "false"}});
   HumanoidSimulation simulation(scene);
@@ -50,9 +57,10 @@ Ringing force_ringing(const std::string& form, const std::string& theta,
   });
   const Ringing r{std::sqrt(sum / n), total / n,
                   simulation.summary().robot_mass * simulation.model().gravity.norm()};
-  std::printf("%s, theta %s, passive theta %s: F_z mean %.2f N (weight %.2f N), rms change "
-              "from step to step %.3g N\n",
-              form.c_str(), theta.c_str(), passive_theta.c_str(), r.mean, r.weight, r.rms_change);
+  std::printf("%s, theta %s, passive theta %s, foot damping rate %s /s, F/T bandwidth %s Hz: "
+              "F_z mean %.2f N (weight %.2f N), rms change from step to step %.3g N\n",
+              form.c_str(), theta.c_str(), passive_theta.c_str(), rate.c_str(), bandwidth.c_str(),
+              r.mean, r.weight, r.rms_change);
   return r;
 }
 
@@ -68,6 +76,20 @@ TEST(PassiveJointTheta, AnkleSpringsAtBackwardEulerDoNotRingOnTheDefaultSetting)
   EXPECT_GT(trapezoidal.rms_change, 0.1 * trapezoidal.weight);
   for (const Ringing& r : {rigid, backward, all_backward})
     EXPECT_LT(r.rms_change, 1e-3 * r.weight);
+}
+
+// The admittance D theta' = tau_d - tau, explicit at dt, moves the ankle's reference; the servo's
+// damping k_d acts on the reference's finite-difference velocity, so at the step's frequency a
+// change a of the reference is a torque of about 2 k_d a / dt and the loop gain is of order
+// 2 k_d / D times the part of that torque the ground takes through the light ankle link and its
+// springs: 25 times that part at k_d = 630, D = 50 N m s/rad (rigid feet: D = 8300, 0.15). The
+// sensor's low-pass divides it by alpha / (2 - alpha) = 1 / 25 at 25 Hz and dt 0.5 ms.
+TEST(PassiveJointTheta, FastFootAdmittanceWantsTheForceSensorsBandwidth) {
+  const Ringing raw = force_ringing("compliant ankle", "0.5", "1", "12", "0");
+  const Ringing filtered = force_ringing("compliant ankle", "0.5", "1", "12", "25");
+  EXPECT_GT(raw.rms_change, 0.1 * raw.weight);
+  EXPECT_NEAR(filtered.mean, filtered.weight, 0.01 * filtered.weight);
+  EXPECT_LT(filtered.rms_change, 1e-3 * filtered.weight);
 }
 
 } // namespace

@@ -1,7 +1,8 @@
 // The simulated sensors (multibody/sensors/): the F/T wrench against a hand computation, the
 // IMU's acceleration and angular velocity against finite differences of the frame's motion,
 // standing still the two F/T sensors carrying m g, and the noise, bias and delay of a channel
-// against their definitions (sample mean and standard deviation, a shift by k samples).
+// against their definitions (sample mean and standard deviation, a shift by k samples), and the
+// F/T low-pass against the closed forms of a first-order recurrence (step, sine, alternation).
 #include "multibody/configuration.h"
 #include "multibody/data.h"
 #include "multibody/jacobian.h"
@@ -17,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <vector>
 
@@ -186,6 +188,72 @@ TEST(RobotSensors, StandingStillTheForceSensorsCarryTheWeight) {
   EXPECT_LT(std::abs(total.x()) + std::abs(total.y()), 1e-3 * weight);
   // Standing still: the accelerometer reads g up in the world.
   EXPECT_NEAR((readings.imu.orientation * readings.imu.linear_acceleration).z(), 9.81, 1e-2);
+}
+
+TEST(RobotSensors, ForceBandwidthIsAFirstOrderLowPass) {
+  // HRP-2 at rest; ground wrenches as inputs. With f_c > 0 each F/T signal y_f follows
+  // y_f,n = y_f,n-1 + alpha (y_n - y_f,n-1), alpha = 1 - exp(-2 pi f_c dt), from y_f,0 = y_0,
+  // y_n the unfiltered reading (f_c = 0, the same sensors otherwise).
+  const Model model = build_model_from_urdf(model_path("hrp2/hrp2.urdf"));
+  Data data(model);
+  const Eigen::VectorXd q = model.neutral_configuration(), zero = Eigen::VectorXd::Zero(model.nv);
+  forward_kinematics(model, data, q, zero, zero);
+  RobotSensorParameters raw_parameters;
+  raw_parameters.imu_frame = model.frame_id("BODY");
+  raw_parameters.force_frames = {model.frame_id("RLEG_LINK5"), model.frame_id("LLEG_LINK5")};
+  RobotSensorParameters filtered_parameters = raw_parameters;
+  const double f_c = 25, dt = 5e-4, alpha = 1 - std::exp(-2 * M_PI * f_c * dt);
+  filtered_parameters.force_bandwidth = f_c;
+  filtered_parameters.period = dt;
+
+  Vector6d w0, w1;
+  w0 << 1, -2, 300, 0.5, -1, 0.1;
+  w1 << -3, 4, 150, -2, 3, -0.4;
+  auto ground = [](const Vector6d& w) { return std::array<Vector6d, 2>{w, -0.5 * w}; };
+  // A step from w0 to w1 at n = 1: y_f,n - y_1 = (y_0 - y_1) (1 - alpha)^n.
+  {
+    RobotSensors raw(model, raw_parameters), filtered(model, filtered_parameters);
+    const std::array<Vector6d, 2> y0 = raw.measure(data, q, ground(w0)).foot_wrenches;
+    const std::array<Vector6d, 2> y1 = raw.measure(data, q, ground(w1)).foot_wrenches;
+    double worst = 0;
+    for (int n = 0; n < 200; ++n) {
+      const SensorReadings& r = filtered.measure(data, q, ground(n == 0 ? w0 : w1));
+      for (int foot = 0; foot < 2; ++foot) {
+        const Vector6d expected = y1[foot] + (y0[foot] - y1[foot]) * std::pow(1 - alpha, n);
+        worst = std::max(worst, (r.foot_wrenches[foot] - expected).cwiseAbs().maxCoeff());
+      }
+    }
+    std::printf("F/T low-pass (25 Hz, dt 0.5 ms, alpha %.6f): step response against "
+                "(1 - alpha)^n, worst %.2e N (N m)\n",
+                alpha, worst);
+    EXPECT_LT(worst, 1e-10);
+  }
+  // Steady sine of frequency f: gain |alpha / (1 - (1 - alpha) exp(-i w dt))| (about 1/sqrt(2)
+  // at f_c); at the Nyquist frequency (alternating sign) alpha / (2 - alpha).
+  for (const double f : {f_c, 1 / (2 * dt)}) {
+    RobotSensors filtered(model, filtered_parameters);
+    const double w = 2 * M_PI * f;
+    const std::complex<double> z = std::polar(1.0, -w * dt);
+    const double gain = std::abs(alpha / (1.0 - (1 - alpha) * z));
+    double peak = 0;
+    for (int n = 0; n < 4000; ++n) {
+      const double s = std::cos(w * n * dt);
+      const SensorReadings& r = filtered.measure(data, q, ground(w0 * s));
+      if (n >= 3000) // the start's transient has decayed by (1 - alpha)^3000
+        peak = std::max(peak, std::abs(r.foot_wrenches[0][2]));
+    }
+    RobotSensors raw(model, raw_parameters);
+    const double amplitude = std::abs(raw.measure(data, q, ground(w0)).foot_wrenches[0][2]);
+    std::printf("  sine at %g Hz: gain %.5f, closed form %.5f\n", f, peak / amplitude, gain);
+    // The sampled peak of a sine (up to cos(w dt / 2) below the amplitude at 25 Hz).
+    EXPECT_NEAR(peak / amplitude, gain, 0.004 * gain);
+  }
+  RobotSensorParameters bad = filtered_parameters;
+  bad.force_bandwidth = -1;
+  EXPECT_THROW(RobotSensors(model, bad), std::invalid_argument);
+  bad.force_bandwidth = 25;
+  bad.period = 0;
+  EXPECT_THROW(RobotSensors(model, bad), std::invalid_argument);
 }
 
 TEST(SensorChannel, DelayBiasAndNoiseAsDefined) {
