@@ -16,7 +16,8 @@
 # (push_walk_timing_gains*.prm), on the rough grounds and over the unplanned step
 # (rough_foothold_step_timing.prm, unplanned_step_step_timing.prm); the soft soles the linear
 # sole cannot take with the Neo-Hookean sole (sole_material_hyperelastic.prm), the materials with
-# the foot damping of the sole's tilt stiffness (sole_material_rate.prm), the published soft
+# the foot damping of the sole's tilt stiffness (sole_material_rate.prm; the Neo-Hookean soft
+# soles with it, sole_material_hyperelastic_rate.prm), the published soft
 # sole, linear and Neo-Hookean, with the default and the tilt-matched foot damping
 # (soft_sole.prm, soft_sole_hyperelastic.prm), that damping on the default walk
 # (foot_damping_rate.prm) and with the F/T sensors' 25 Hz low-pass on the three forms
@@ -44,7 +45,7 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$here/push_walk_timing_gains.prm" "$here/push_walk_timing_gains_sideways.prm" \
   "$here/rough_foothold_step_timing.prm" \
   "$here/unplanned_step_step_timing.prm" "$here/sole_material_hyperelastic.prm" \
-  "$here/sole_material_rate.prm" \
+  "$here/sole_material_rate.prm" "$here/sole_material_hyperelastic_rate.prm" \
   "$here/soft_sole.prm" "$here/soft_sole_hyperelastic.prm" "$here/foot_damping_rate.prm" \
   "$here/forms_dt_theta_rule.prm" \
   "$here/sensor_delay.prm" "$here/sensor_noise.prm" "$here/sensor_bias.prm"; do
@@ -59,7 +60,8 @@ done
   "$out/push_walk_sideways" "$out/push_walk_timing" "$out/push_walk_timing_sideways" \
   "$out/push_walk_timing_fem" "$out/push_walk_timing_gains" "$out/push_walk_timing_gains_sideways" \
   "$out/rough_foothold_step_timing" "$out/unplanned_step_step_timing" \
-  "$out/sole_material_hyperelastic" "$out/sole_material_rate" "$out/soft_sole" \
+  "$out/sole_material_hyperelastic" "$out/sole_material_rate" \
+  "$out/sole_material_hyperelastic_rate" "$out/soft_sole" \
   "$out/soft_sole_hyperelastic" \
   "$out/foot_damping_rate" "$out/forms_dt_theta_rule" "$out/sensor_delay" "$out/sensor_noise" \
   "$out/sensor_bias" \
