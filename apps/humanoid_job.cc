@@ -89,7 +89,15 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
       << scene.output.landing_window * 1e3 << " ms\n"
       << "waist height: min " << s.min_waist_height << " m, max |z - z_ref| "
       << s.max_waist_height_error << " m, max tilt from the reference " << s.max_waist_tilt * deg
-      << " deg\n";
+      << " deg\n"
+      << "balance: smallest distance of the stance foot's CoP to its sole's edge in single "
+         "support "
+      << s.min_single_support_margin * 1e3 << " mm";
+  if (scene.control.stabilizer == StabilizerType::dcm)
+    out << "; DCM error up to " << s.max_dcm_error * 1e3 << " mm (estimate), "
+        << s.max_true_dcm_error * 1e3 << " mm (true), estimate off the truth by up to "
+        << s.max_dcm_estimate_error * 1e3 << " mm";
+  out << "\n";
   if (s.sole_recondensation_tolerance > 0)
     out << "hyperelastic soles: " << s.sole_newton_checks << " Newton checks, "
         << s.sole_recondensations << " re-condensations, largest tolerated prediction error "
@@ -232,6 +240,10 @@ void write_summary_csv(const std::filesystem::path& path, const HumanoidSummary&
         << "roll_difference_deg," << (s.commanded_roll - s.final_roll) * deg << "\n"
         << "max_roll_difference_deg," << s.max_roll_difference * deg << "\n"
         << "max_waist_tilt_deg," << s.max_waist_tilt * deg << "\n"
+        << "min_single_support_margin," << s.min_single_support_margin << "\n"
+        << "max_dcm_error," << s.max_dcm_error << "\n"
+        << "max_true_dcm_error," << s.max_true_dcm_error << "\n"
+        << "max_dcm_estimate_error," << s.max_dcm_estimate_error << "\n"
         << "adjusted_steps," << s.adjusted_steps << "\n"
         << "max_step_adjustment," << s.max_step_adjustment << "\n"
         << "max_landing_error," << s.max_landing_error << "\n"

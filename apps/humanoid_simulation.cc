@@ -6,6 +6,7 @@
 #include "contact/siconos_writer.h"
 #include "multibody/kinematics.h"
 #include "multibody/urdf_loader.h"
+#include "multibody/walking/support_polygon.h"
 #include "multibody/walking/walking_reference.h"
 
 #include <Eigen/Geometry>
@@ -23,6 +24,8 @@ namespace plantar::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+/// N: a foot carrying more is on the ground (single support: the other foot carries less).
+constexpr double min_support_load = 1.0;
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
@@ -549,6 +552,36 @@ void HumanoidSimulation::step() {
   const Eigen::Vector3d& force_r = foot_reports_[0].force;
   const Eigen::Vector3d& force_l = foot_reports_[1].force;
   summary_.final_contact_force = force_r + force_l + pad_force;
+  // Single support, outside the landing windows: the stance sole's CoP margin to its outline.
+  for (int foot = 0; foot < 2; ++foot)
+    if (!(foot_reports_[foot].force.z() > min_support_load))
+      loaded_since_[foot] = -1;
+    else if (loaded_since_[foot] < 0)
+      loaded_since_[foot] = t;
+  const bool right_loaded = loaded_since_[0] >= 0, left_loaded = loaded_since_[1] >= 0;
+  if (right_loaded != left_loaded) {
+    const int stance = right_loaded ? 0 : 1;
+    const FootReport& foot = foot_reports_[stance];
+    if (foot.force.z() > 0.1 * summary_.robot_mass * model_.gravity.norm() &&
+        t - loaded_since_[stance] >= scene_.output.landing_window) {
+      const multibody::SE3 sole = multibody::frame_placement(model_, data_, sole_frames_[stance]);
+      int k = 0;
+      for (const double sx : {-0.5, 0.5})
+        for (const double sy : {-0.5, 0.5})
+          support_corners_.col(k++) =
+              sole.act_point(Eigen::Vector3d(sx * scene_.sole.length, sy * scene_.sole.width, 0.0))
+                  .head<2>();
+      const Eigen::Vector2d cop = foot.moment.head<2>() / foot.force.z();
+      summary_.min_single_support_margin =
+          std::min(summary_.min_single_support_margin, walking::hull_margin(cop, support_corners_));
+    }
+  }
+  if (balance_) {
+    const walking::BalanceStatistics& stats = balance_->statistics();
+    summary_.max_dcm_error = stats.max_dcm_error;
+    summary_.max_true_dcm_error = stats.max_true_dcm_error;
+    summary_.max_dcm_estimate_error = stats.max_dcm_estimate_error;
+  }
   summary_.n_steps = step_;
   summary_.simulated_time = t;
   if (step_ == n_steps_) {

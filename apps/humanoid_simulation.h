@@ -161,7 +161,9 @@ private:
   Eigen::Vector3d waist_velocity_ = Eigen::Vector3d::Zero();
   ButterworthLowPass accelerometer_; ///< Output/Accelerometer bandwidth
   ButterworthState accelerometer_state_;
-  std::array<LandingDetector, 2> landings_; ///< right, left
+  Eigen::Matrix<double, 2, 4> support_corners_;    ///< the stance sole's corners (its CoP margin)
+  std::array<double, 2> loaded_since_{-1.0, -1.0}; ///< s, each foot above 1 N since; -1: not
+  std::array<LandingDetector, 2> landings_;        ///< right, left
   Eigen::Vector3d settle_position_ = Eigen::Vector3d::Zero();
   std::array<FootReport, 2> foot_reports_; ///< right, left: the last step's
   std::vector<PadReport> pad_reports_;     ///< per pad: the last step's

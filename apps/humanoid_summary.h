@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 
+#include <limits>
+
 namespace plantar::app {
 
 /// Figures of a humanoid run (SI units; accelerations in m/s^2).
@@ -58,6 +60,16 @@ struct HumanoidSummary {
   double commanded_roll = 0;           ///< commanded waist roll at the end, rad
   double max_roll_difference = 0;      ///< max |commanded - measured| roll, rad
   double max_waist_tilt = 0; ///< max angle between the waist's z axis and the reference's, rad
+  /// m: in single support (one foot above 1 N, carrying more than a tenth of the weight, loaded
+  /// for at least Output/Landing window), the smallest signed distance of the stance foot's
+  /// centre of pressure to its outline (Sole/Length x Width, projected on the ground; 0: the
+  /// foot pivots on an edge) over the run; +inf when the run has no single support.
+  double min_single_support_margin = std::numeric_limits<double>::infinity();
+  /// m, Stabilizer = dcm (else NaN): max |xi_est - xi_ref|, max |xi_true - xi_ref| and max
+  /// |xi_est - xi_true| over the run (horizontal; walking::BalanceStatistics)
+  double max_dcm_error = std::numeric_limits<double>::quiet_NaN();
+  double max_true_dcm_error = std::numeric_limits<double>::quiet_NaN();
+  double max_dcm_estimate_error = std::numeric_limits<double>::quiet_NaN();
   /// max |a_z| of the waist accelerometer (Output/Accelerometer bandwidth) over the run
   double max_waist_acceleration_z_filtered = 0;
   /// Hz: the accelerometer's cut-off used; 0: raw (0 set, or at or above 1 / (2 dt))

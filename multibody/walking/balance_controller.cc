@@ -135,6 +135,8 @@ void BalanceController::update(const Eigen::Ref<const Eigen::VectorXd>& q,
   const Eigen::Vector2d dcm_true = (com_true + com_true_velocity / omega_).head<2>();
   statistics_.dcm_error = dcm - dcm_target_;
   statistics_.true_dcm_error = dcm_true - dcm_target_;
+  statistics_.max_true_dcm_error =
+      std::max(statistics_.max_true_dcm_error, statistics_.true_dcm_error.norm());
   statistics_.max_dcm_error = std::max(statistics_.max_dcm_error, statistics_.dcm_error.norm());
   statistics_.max_com_estimate_error =
       std::max(statistics_.max_com_estimate_error, (estimator_.com() - com_true).norm());

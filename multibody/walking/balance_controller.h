@@ -73,6 +73,7 @@ struct BalanceStatistics {
   double max_dcm_error = 0;                            ///< m, max |xi_est - xi_ref| (horizontal)
   double max_com_estimate_error = 0;                   ///< m, max |c_est - c_true|
   double max_dcm_estimate_error = 0;                   ///< m, max |xi_est - xi_true| (horizontal)
+  double max_true_dcm_error = 0;                       ///< m, max |xi_true - xi_ref| (horizontal)
   Eigen::Vector2d dcm_error = Eigen::Vector2d::Zero(); ///< last xi_est - xi_ref
   Eigen::Vector2d true_dcm_error = Eigen::Vector2d::Zero(); ///< last xi_true - xi_ref
 };

@@ -110,4 +110,26 @@ Eigen::Vector2d nearest_in_polygon(const Eigen::Vector2d& p, const Eigen::Matrix
   return x;
 }
 
+double hull_margin(const Eigen::Vector2d& p, const Eigen::Ref<const Eigen::Matrix2Xd>& points) {
+  const int n = static_cast<int>(points.cols());
+  double margin = -std::numeric_limits<double>::infinity();
+  bool found = false;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const Eigen::Vector2d a = points.col(i), b = points.col(j);
+      const double length = (b - a).norm();
+      if (!(length > 0))
+        continue;
+      bool edge = true;
+      for (int k = 0; k < n && edge; ++k)
+        edge = cross(a, b, points.col(k)) >= -1e-12 * length;
+      if (!edge)
+        continue;
+      const double d = cross(a, b, p) / length;
+      margin = found ? std::min(margin, d) : d;
+      found = true;
+    }
+  return margin;
+}
+
 } // namespace plantar::walking

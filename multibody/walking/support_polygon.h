@@ -1,5 +1,6 @@
-// The support polygon of a sole: the convex hull of its points on the ground, and the point of
-// it, shrunk by a margin, nearest to a target (where a ZMP or CoP target can be held).
+// The support polygon of a sole: the convex hull of its points on the ground, the point of it,
+// shrunk by a margin, nearest to a target (where a ZMP or CoP target can be held), and a
+// point's margin to the hull's boundary (how far a ZMP is from tipping).
 #pragma once
 
 #include <Eigen/Core>
@@ -19,5 +20,12 @@ Eigen::Matrix2Xd convex_hull(const Eigen::Matrix2Xd& points);
 /// degenerate polygon. No heap allocation.
 Eigen::Vector2d nearest_in_polygon(const Eigen::Vector2d& p, const Eigen::Matrix2Xd& polygon,
                                    double margin);
+
+/// The signed distance [m] from @p p to the boundary of the convex hull of @p points (2 x n):
+/// min over the hull's edges (a, b) of n . (p - a), n the edge's inward unit normal; positive
+/// inside, negative outside (there a lower bound of minus the distance). The edges are the
+/// ordered pairs with every point on or left of a -> b (1e-12 m), so the hull is not built:
+/// O(n^3), no heap allocation. Collinear points (no area) give a value <= 0; n < 2: -inf.
+double hull_margin(const Eigen::Vector2d& p, const Eigen::Ref<const Eigen::Matrix2Xd>& points);
 
 } // namespace plantar::walking
