@@ -47,16 +47,20 @@ TEST(Cli, Help) {
 }
 
 /// The default scene is the walking comparison: scenes/walk.prm's parameters in the well-posed
-/// setting (stabilizer, touchdowns at 0.1 m/s, dt 0.5 ms, theta 1/2), all three forms.
+/// setting (stabilizer, foot damping rate 12 /s, F/T low-pass 25 Hz, touchdowns at 0.1 m/s,
+/// dt 0.5 ms, theta 1/2), all three forms.
 TEST(Cli, DefaultSceneIsTheWalkComparisonOfWalkPrm) {
   dealii::ParameterHandler default_prm, walk_prm;
   const auto source = std::string(PLANTAR_SOURCE_DIR) + "/scenes/";
   const auto comparison = plantar::app::load_scene(source + "default.prm", default_prm);
   plantar::app::load_scene(source + "walk.prm", walk_prm);
-  const std::vector<std::array<const char*, 3>> well_posed{{"Control", "Stabilizer", "dcm"},
-                                                           {"Walking", "Touchdown velocity", "0.1"},
-                                                           {"Simulation", "Time step", "0.0005"},
-                                                           {"Simulation", "Theta", "0.5"}};
+  const std::vector<std::array<const char*, 3>> well_posed{
+      {"Control", "Stabilizer", "dcm"},
+      {"Control", "Foot damping rate", "12"},
+      {"Control", "Force sensor bandwidth", "25"},
+      {"Walking", "Touchdown velocity", "0.1"},
+      {"Simulation", "Time step", "0.0005"},
+      {"Simulation", "Theta", "0.5"}};
   for (const auto& [section, entry, value] : well_posed) {
     walk_prm.enter_subsection(section);
     walk_prm.set(entry, value);
