@@ -21,7 +21,8 @@
 # sole, linear and Neo-Hookean, with the default and the tilt-matched foot damping
 # (soft_sole.prm, soft_sole_hyperelastic.prm), that damping on the default walk
 # (foot_damping_rate.prm) and with the F/T sensors' 25 Hz low-pass on the three forms
-# (forms_dt_theta_rule.prm), the sensors' delay, noise and bias (sensor_delay.prm,
+# (forms_dt_theta_rule.prm; at dt 2 ms with that low-pass at 12.5 and 8 Hz,
+# forms_dt2_theta_rule.prm), the sensors' delay, noise and bias (sensor_delay.prm,
 # sensor_noise.prm, sensor_bias.prm); then OUT_DIR/tables.md by table.py (outcome and figures
 # per case).
 set -eu
@@ -47,7 +48,7 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$here/unplanned_step_step_timing.prm" "$here/sole_material_hyperelastic.prm" \
   "$here/sole_material_rate.prm" "$here/sole_material_hyperelastic_rate.prm" \
   "$here/soft_sole.prm" "$here/soft_sole_hyperelastic.prm" "$here/foot_damping_rate.prm" \
-  "$here/forms_dt_theta_rule.prm" \
+  "$here/forms_dt_theta_rule.prm" "$here/forms_dt2_theta_rule.prm" \
   "$here/sensor_delay.prm" "$here/sensor_noise.prm" "$here/sensor_bias.prm"; do
   # A failed point (a fall) is a result of the matrix, not an error of the script.
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
@@ -63,7 +64,7 @@ done
   "$out/sole_material_hyperelastic" "$out/sole_material_rate" \
   "$out/sole_material_hyperelastic_rate" "$out/soft_sole" \
   "$out/soft_sole_hyperelastic" \
-  "$out/foot_damping_rate" "$out/forms_dt_theta_rule" "$out/sensor_delay" "$out/sensor_noise" \
+  "$out/foot_damping_rate" "$out/forms_dt_theta_rule" "$out/forms_dt2_theta_rule" "$out/sensor_delay" "$out/sensor_noise" \
   "$out/sensor_bias" \
   >"$out/tables.md"
 cat "$out/tables.md"
