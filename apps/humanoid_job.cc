@@ -98,6 +98,15 @@ std::string format_summary(const Scene& scene, const HumanoidSummary& s) {
         << s.max_true_dcm_error * 1e3 << " mm (true), estimate off the truth by up to "
         << s.max_dcm_estimate_error * 1e3 << " mm";
   out << "\n";
+  if (scene.control.stabilizer == StabilizerType::dcm) {
+    out << "foot admittance: damping roll " << s.foot_damping[0] << ", pitch " << s.foot_damping[1]
+        << " N m s/rad";
+    if (scene.control.foot_damping_rate > 0)
+      out << " (Control/Foot damping rate " << scene.control.foot_damping_rate
+          << " /s over the foot's tilt stiffness " << s.foot_tilt_stiffness[0] << ", "
+          << s.foot_tilt_stiffness[1] << " N m/rad in series with the servo)";
+    out << "; F/T low-pass " << scene.control.balance.sensors.force_bandwidth << " Hz (0: raw)\n";
+  }
   if (s.sole_recondensation_tolerance > 0)
     out << "hyperelastic soles: " << s.sole_newton_checks << " Newton checks, "
         << s.sole_recondensations << " re-condensations, largest tolerated prediction error "

@@ -15,6 +15,7 @@
 //   (tests/apps/data/walk_rigid_2s_waist_tree.csv), sensor noise set or not. The recording
 //   was first made by the commit before the stabilizer (66393ee) and re-made when the tree
 //   factorisation of M_eff (multibody/tree_factorization.h) changed the round-off.
+#include "apps/humanoid_job.h"
 #include "apps/humanoid_simulation.h"
 #include "tests/allocation_counter.h"
 #include "tests/apps/humanoid_test_utilities.h"
@@ -277,6 +278,16 @@ TEST(FootDampingRate, TheSoftSoleWalksWithTheDampingOfItsTiltStiffness) {
               k[0], k[1], closed[0], closed[1]);
   EXPECT_NEAR(k[0] / closed[0], 1, 0.1);
   EXPECT_NEAR(k[1] / closed[1], 1, 0.1);
+  // summary.txt names the damping used and where it came from: D = k_eff / r, 1/k_eff = 1/kp +
+  // 1/k (kp = Control/Joint stiffness, 1e5 N m/rad)
+  const std::string text = format_summary(
+      testing::load_humanoid_scene("default", {{"Robot/Foot form", "fem sole"}}), sole.summary());
+  const auto at = text.find("foot admittance: damping roll ");
+  ASSERT_NE(at, std::string::npos) << text;
+  const double printed = std::strtod(text.c_str() + at + 30, nullptr);
+  EXPECT_NEAR(printed, 1 / (1 / 1e5 + 1 / k[0]) / 12, 1e-5 * printed) << text.substr(at, 200);
+  EXPECT_NE(text.find("Control/Foot damping rate 12 /s", at), std::string::npos);
+  EXPECT_NE(text.find("F/T low-pass 25 Hz", at), std::string::npos);
   HumanoidSimulation ankle(
       testing::load_humanoid_scene("default", {{"Robot/Foot form", "compliant ankle"},
                                                {"Control/Foot damping rate", "12"},
