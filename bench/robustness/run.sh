@@ -14,7 +14,8 @@
 # push_walk_sideways.prm); step timing on the pushed walks (push_walk_timing.prm,
 # push_walk_timing_sideways.prm, on FEM soles push_walk_timing_fem.prm), its gains
 # (push_walk_timing_gains*.prm), on the rough grounds and over the unplanned step
-# (rough_foothold_step_timing.prm, unplanned_step_step_timing.prm); the soft soles the linear
+# (rough_foothold_step_timing.prm, unplanned_step_step_timing.prm), the unplanned step on the
+# Neo-Hookean sole (unplanned_step_hyperelastic.prm); the soft soles the linear
 # sole cannot take with the Neo-Hookean sole (sole_material_hyperelastic.prm), the materials with
 # the foot damping of the sole's tilt stiffness (sole_material_rate.prm; the Neo-Hookean soft
 # soles with it, sole_material_hyperelastic_rate.prm), the published soft
@@ -46,7 +47,8 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$here/push_walk_timing_sideways.prm" "$here/push_walk_timing_fem.prm" \
   "$here/push_walk_timing_gains.prm" "$here/push_walk_timing_gains_sideways.prm" \
   "$here/rough_foothold_step_timing.prm" \
-  "$here/unplanned_step_step_timing.prm" "$here/sole_material_hyperelastic.prm" \
+  "$here/unplanned_step_step_timing.prm" "$here/unplanned_step_hyperelastic.prm" \
+  "$here/sole_material_hyperelastic.prm" \
   "$here/sole_material_rate.prm" "$here/sole_material_hyperelastic_rate.prm" \
   "$here/soft_sole.prm" "$here/soft_sole_hyperelastic.prm" "$here/foot_damping_rate.prm" \
   "$here/forms_dt_theta_rule.prm" "$here/forms_dt2_theta_rule.prm" \
@@ -62,6 +64,7 @@ done
   "$out/push_walk_sideways" "$out/push_walk_timing" "$out/push_walk_timing_sideways" \
   "$out/push_walk_timing_fem" "$out/push_walk_timing_gains" "$out/push_walk_timing_gains_sideways" \
   "$out/rough_foothold_step_timing" "$out/unplanned_step_step_timing" \
+  "$out/unplanned_step_hyperelastic" \
   "$out/sole_material_hyperelastic" "$out/sole_material_rate" \
   "$out/sole_material_hyperelastic_rate" "$out/soft_sole" \
   "$out/soft_sole_hyperelastic" \
