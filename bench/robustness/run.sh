@@ -6,6 +6,7 @@
 # ground planned on it (rough.prm; rough_foothold.prm: with 9 x 9 contact grids and a foothold
 # search; rough_foothold_p2.prm: its FEM sole on P2 tetrahedra; rough_foothold_seeds.prm: the
 # rigid feet and the compliant ankle on two more rough grounds; rough_sole_stiffness.prm: the FEM sole from 4 MPa to 1 GPa on three rough grounds;
+# rough_sole_thickness.prm: the 4 MPa sole 1, 3 and 4 cm thick;
 # rough_foothold_timing.prm, rough_foothold_timing_short.prm: the three grounds with 0.6 / 0.2 s
 # and 0.5 / 0.3 s support times),
 # an unplanned 2 cm step (unplanned_step.prm) and the same step planned on (planned_step.prm);
@@ -39,6 +40,7 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$root/bench/impact_convergence/walk_mesh.prm" "$here/rough.prm" "$here/rough_foothold.prm" \
   "$here/rough_foothold_p2.prm" \
   "$here/rough_foothold_seeds.prm" "$here/rough_sole_stiffness.prm" \
+  "$here/rough_sole_thickness.prm" \
   "$here/rough_foothold_timing.prm" "$here/rough_foothold_timing_short.prm" \
   "$here/unplanned_step.prm" \
   "$here/planned_step.prm" "$here/flat_stepping.prm" "$here/rough_stepping.prm" \
@@ -57,7 +59,7 @@ for scene in "$here/forms_dt_theta.prm" "$here/sole_material.prm" \
   "$build/apps/plantar" sweep "$scene" -o "$out/$(basename "$scene" .prm)" -j "$jobs" || true
 done
 /usr/bin/python3 "$here/table.py" "$out/forms_dt_theta" "$out/sole_material" "$out/walk_mesh" \
-  "$out/rough" "$out/rough_foothold" "$out/rough_foothold_p2" "$out/rough_foothold_seeds" "$out/rough_sole_stiffness" \
+  "$out/rough" "$out/rough_foothold" "$out/rough_foothold_p2" "$out/rough_foothold_seeds" "$out/rough_sole_stiffness" "$out/rough_sole_thickness" \
   "$out/rough_foothold_timing" "$out/rough_foothold_timing_short" "$out/unplanned_step" \
   "$out/planned_step" "$out/flat_stepping" "$out/rough_stepping" \
   "$out/rough_foothold_stepping" "$out/unplanned_step_stepping" "$out/push_walk" \
